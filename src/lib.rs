@@ -1,0 +1,1 @@
+//! brume: a physically based renderer for participating media.
