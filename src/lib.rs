@@ -3,6 +3,15 @@
 //! Fog, smoke, clouds and airlight, lit and shadowed together with ordinary
 //! surfaces by one unbiased Monte Carlo radiance estimator.
 
+pub mod camera;
 pub mod color;
+pub mod error;
+pub mod geometry;
+pub mod image_io;
+pub mod integrator;
+pub mod light;
+pub mod material;
 pub mod math;
+pub mod render;
 pub mod sampling;
+pub mod scene;

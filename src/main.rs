@@ -1,1 +1,169 @@
-fn main() {}
+//! The `brume` command line: `render`, and the tools around it.
+
+use brume::error::{Error, Result};
+use brume::image_io;
+use brume::render::{render, RenderOptions};
+use clap::{Parser, Subcommand};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// brume: a physically based renderer for participating media.
+#[derive(Parser)]
+#[command(version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene file to EXR (linear) and PNG (sRGB preview).
+    Render(RenderArgs),
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    /// The scene file (TOML).
+    scene: PathBuf,
+    /// Samples per pixel (overrides the scene's integrator.spp).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Maximum path depth (overrides integrator.max_depth).
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Seed of the random streams (overrides integrator.seed).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Worker threads (default: all cores). The image does not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// EXR output (default: NAME.exr in the current folder).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// PNG preview (default: NAME.png in the current folder).
+    #[arg(long)]
+    png: Option<PathBuf>,
+    /// Render progressive passes until this many seconds are spent (--spp then caps it).
+    #[arg(long, allow_negative_numbers = true)]
+    time: Option<f64>,
+    /// Exposure of the PNG preview in stops.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    exposure: f32,
+    /// No progress bar and no summary.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => run_render(args),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e}");
+        std::process::exit(e.exit_code());
+    }
+}
+
+fn argument(name: &str, message: &str) -> Error {
+    Error::Argument {
+        argument: name.into(),
+        message: message.into(),
+    }
+}
+
+fn run_render(args: RenderArgs) -> Result<()> {
+    let mut scene = brume::scene::load(&args.scene)?;
+    if let Some(spp) = args.spp {
+        if spp == 0 {
+            return Err(argument("--spp", "must be at least 1"));
+        }
+        scene.settings.spp = spp;
+    }
+    if let Some(d) = args.max_depth {
+        scene.settings.max_depth = d;
+    }
+    if let Some(seed) = args.seed {
+        scene.settings.seed = seed;
+    }
+    if args.threads == Some(0) {
+        return Err(argument("--threads", "must be at least 1"));
+    }
+    let time_budget = match args.time {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            return Err(argument("--time", "must be a positive number of seconds"))
+        }
+        Some(t) => Some(Duration::from_secs_f64(t)),
+        None => None,
+    };
+    if !args.exposure.is_finite() {
+        return Err(argument("--exposure", "must be finite"));
+    }
+    let stem = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "render".into());
+    let exr_path = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}.exr")));
+    let png_path = args
+        .png
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
+    image_io::check_writable(&exr_path)?;
+    image_io::check_writable(&png_path)?;
+
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    // A second signal exits at once; the first asks the render to stop and save.
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+    let show = !args.quiet && std::io::stderr().is_terminal();
+    let options = RenderOptions {
+        spp: scene.settings.spp,
+        time_budget,
+        spp_is_cap: args.spp.is_some(),
+        threads: args.threads,
+        progress: show,
+    };
+    let out = render(&scene, &options, &cancel);
+    image_io::write_exr(&exr_path, &out.image)?;
+    image_io::write_png(&png_path, &out.image, args.exposure)?;
+    if !args.quiet {
+        report(&out, &exr_path, &png_path);
+    }
+    Ok(())
+}
+
+fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
+    let secs = out.elapsed.as_secs_f64();
+    eprintln!(
+        "{} {}x{} at {} spp in {:.2} s ({:.2} M samples/s) -> {} , {}",
+        if out.image.partial {
+            "interrupted:"
+        } else {
+            "rendered"
+        },
+        out.image.width,
+        out.image.height,
+        out.image.spp,
+        secs,
+        out.samples as f64 / secs.max(1e-9) / 1e6,
+        exr.display(),
+        png.display()
+    );
+    if out.nonfinite_samples > 0 {
+        eprintln!(
+            "warning: {} NaN/infinite samples were left out of the image",
+            out.nonfinite_samples
+        );
+    }
+}

@@ -1,0 +1,182 @@
+//! EXR (linear float) and PNG (tonemapped sRGB) output, written atomically.
+//!
+//! Every file is first written to a temporary file in the destination folder
+//! and renamed over the destination only on success, so a failed or
+//! interrupted write never destroys an existing image.
+
+use crate::color::{linear_to_srgb, Rgb};
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// A finished (or partial) image in linear RGB with what produced it.
+pub struct Image {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Row-major pixels, row 0 at the top.
+    pub pixels: Vec<Rgb>,
+    /// Samples per pixel reached.
+    pub spp: u32,
+    /// True when the render was stopped before its budget.
+    pub partial: bool,
+}
+
+fn output_error(path: &Path, message: impl Into<String>) -> Error {
+    Error::Output {
+        path: path.to_path_buf(),
+        message: message.into(),
+    }
+}
+
+/// A temporary sibling of `path` in the same folder (same file system, so rename is atomic).
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+}
+
+/// Checks before rendering that `path` can be created: the folder exists and is writable.
+pub fn check_writable(path: &Path) -> Result<()> {
+    let bad = |m: String| Error::Argument {
+        argument: path.display().to_string(),
+        message: m,
+    };
+    if path.is_dir() {
+        return Err(bad("is a directory".into()));
+    }
+    let probe = temp_path(path);
+    match std::fs::File::create(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(bad(format!("cannot be written: {e}"))),
+    }
+}
+
+/// Writes through `write` into a temporary file, then renames it onto `path`.
+fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&Path) -> std::result::Result<(), String>,
+) -> Result<()> {
+    let tmp = temp_path(path);
+    if let Err(message) = write(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(output_error(path, message));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        output_error(path, e.to_string())
+    })
+}
+
+/// Writes a linear RGB float EXR, recording spp and completeness in the header.
+pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
+    use exr::meta::attribute::{AttributeValue, Text};
+    use exr::prelude::{
+        Encoding, Image as ExrImage, Layer, LayerAttributes, SpecificChannels, Vec2, WritableImage,
+    };
+    let (w, h) = (image.width, image.height);
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::named("rgb"),
+        Encoding::SMALL_LOSSLESS,
+        SpecificChannels::rgb(|p: Vec2<usize>| {
+            let c = image.pixels[p.y() * w + p.x()];
+            (c.r, c.g, c.b)
+        }),
+    );
+    let mut exr_image = ExrImage::from_layer(layer);
+    let other = &mut exr_image.attributes.other;
+    other.insert(
+        Text::from("brume:spp"),
+        AttributeValue::I32(image.spp as i32),
+    );
+    other.insert(
+        Text::from("brume:complete"),
+        AttributeValue::I32(if image.partial { 0 } else { 1 }),
+    );
+    write_atomically(path, |tmp| {
+        exr_image.write().to_file(tmp).map_err(|e| e.to_string())
+    })
+}
+
+/// Reads an RGB EXR back (for tests and tools): width, height, pixels.
+pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
+    use exr::prelude::read_first_rgba_layer_from_file;
+    let image = read_first_rgba_layer_from_file(
+        path,
+        |resolution, _| {
+            (
+                resolution.width(),
+                vec![Rgb::BLACK; resolution.width() * resolution.height()],
+            )
+        },
+        |(w, pixels), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+            pixels[pos.y() * *w + pos.x()] = Rgb::new(r, g, b)
+        },
+    )
+    .map_err(|e| Error::Input {
+        path: path.to_path_buf(),
+        message: format!("cannot read EXR: {e}"),
+    })?;
+    let size = image.layer_data.size;
+    Ok((
+        size.width(),
+        size.height(),
+        image.layer_data.channel_data.pixels.1,
+    ))
+}
+
+/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and clamping.
+pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
+    let scale = exposure.exp2();
+    let mut bytes = Vec::with_capacity(image.width * image.height * 3);
+    for c in &image.pixels {
+        for v in [c.r, c.g, c.b] {
+            bytes.push((linear_to_srgb(v * scale) * 255.0 + 0.5) as u8);
+        }
+    }
+    write_atomically(path, |tmp| {
+        let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+        let mut encoder = png::Encoder::new(
+            std::io::BufWriter::new(file),
+            image.width as u32,
+            image.height as u32,
+        );
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+        writer.write_image_data(&bytes).map_err(|e| e.to_string())?;
+        writer.finish().map_err(|e| e.to_string())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exr_round_trip_and_failed_write_keeps_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.exr");
+        let image = Image {
+            width: 3,
+            height: 2,
+            pixels: (0..6).map(|i| Rgb::new(i as f32, 0.5, -1.0)).collect(),
+            spp: 4,
+            partial: false,
+        };
+        write_exr(&path, &image).unwrap();
+        let (w, h, pixels) = read_exr(&path).unwrap();
+        assert_eq!((w, h), (3, 2));
+        assert_eq!(pixels, image.pixels);
+        let missing = dir.path().join("no/such/dir/b.exr");
+        assert!(write_exr(&missing, &image).is_err());
+        assert!(check_writable(&missing).is_err());
+        assert!(check_writable(&path).is_ok());
+    }
+}

@@ -1,0 +1,378 @@
+//! Lights: point, spot, area (emissive shapes), sun and environment.
+
+use crate::color::Rgb;
+use crate::geometry::{Geometry, Primitive};
+use crate::math::{Frame, Vec2, Vec3};
+use crate::sampling::warp;
+use std::f32::consts::PI;
+
+/// Radiance arriving from the sky in a direction, for environments.
+#[derive(Clone, Copy, Debug)]
+pub enum Environment {
+    /// The same radiance from every direction.
+    Constant {
+        /// Radiance.
+        radiance: Rgb,
+    },
+    /// A gradient from horizon to zenith above the horizon and a flat ground colour below.
+    Sky {
+        /// Radiance straight up.
+        zenith: Rgb,
+        /// Radiance at the horizon.
+        horizon: Rgb,
+        /// Radiance from below the horizon.
+        ground: Rgb,
+        /// Unit up axis.
+        up: Vec3,
+    },
+}
+
+impl Environment {
+    /// Radiance arriving from direction `dir` (pointing away from the receiver).
+    pub fn radiance(&self, dir: Vec3) -> Rgb {
+        match *self {
+            Environment::Constant { radiance } => radiance,
+            Environment::Sky {
+                zenith,
+                horizon,
+                ground,
+                up,
+            } => {
+                let h = dir.dot(up);
+                if h < 0.0 {
+                    ground
+                } else {
+                    // sqrt keeps the horizon band narrow, as a clear sky looks.
+                    let s = h.sqrt();
+                    horizon * (1.0 - s) + zenith * s
+                }
+            }
+        }
+    }
+}
+
+/// An emitter.
+#[derive(Clone, Debug)]
+pub enum Light {
+    /// Isotropic point light of radiant intensity `intensity` (W/sr per channel).
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Radiant intensity.
+        intensity: Rgb,
+    },
+    /// Spot light: a point light restricted to a cone with a smooth edge.
+    Spot {
+        /// Position.
+        position: Vec3,
+        /// Unit axis the light points along.
+        axis: Vec3,
+        /// Radiant intensity on the axis.
+        intensity: Rgb,
+        /// Cosine of the angle where the falloff starts.
+        cos_inner: f32,
+        /// Cosine of the cone's half-angle (no light outside).
+        cos_outer: f32,
+    },
+    /// An emissive shape with uniform radiance on its primitives.
+    Area {
+        /// Index of the shape in the scene.
+        shape: u32,
+        /// Emitted radiance.
+        radiance: Rgb,
+        /// Emit from both sides instead of only the front (normal) side.
+        two_sided: bool,
+        /// Indices into `Geometry::primitives` of the shape's primitives.
+        primitives: Vec<u32>,
+        /// Cumulative areas of `primitives`, last entry = total area.
+        cumulative_area: Vec<f32>,
+    },
+    /// A distant disk light (the sun); a delta light when `cos_max` is 1.
+    Sun {
+        /// Unit direction toward the sun.
+        to_sun: Vec3,
+        /// Irradiance on a plane facing the sun.
+        irradiance: Rgb,
+        /// Cosine of the angular radius.
+        cos_max: f32,
+    },
+    /// Light arriving from infinitely far in every direction.
+    Environment(Environment),
+}
+
+/// A point sampled on a light, seen from a receiver.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSample {
+    /// Unit direction from the receiver toward the light.
+    pub wi: Vec3,
+    /// Distance to the light point (infinite for distant lights).
+    pub distance: f32,
+    /// Radiance (or for delta lights, irradiance-like `I/d²`) arriving along `wi`.
+    pub radiance: Rgb,
+    /// Solid-angle density of the sample (1 for delta lights).
+    pub pdf: f32,
+    /// True when no other strategy can find this light.
+    pub is_delta: bool,
+}
+
+impl Light {
+    /// Builds an area light for `shape` over its primitives in `geometry`.
+    pub fn area(shape: u32, radiance: Rgb, two_sided: bool, geometry: &Geometry) -> Light {
+        let mut primitives = Vec::new();
+        let mut cumulative_area = Vec::new();
+        let mut total = 0.0;
+        for (i, &s) in geometry.primitive_shapes().iter().enumerate() {
+            if s == shape {
+                total += geometry.primitives()[i].area();
+                primitives.push(i as u32);
+                cumulative_area.push(total);
+            }
+        }
+        Light::Area {
+            shape,
+            radiance,
+            two_sided,
+            primitives,
+            cumulative_area,
+        }
+    }
+
+    /// True for lights at infinity that a ray escaping the scene can see.
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Light::Sun { .. } | Light::Environment(_))
+    }
+
+    /// Samples a direction toward the light from receiver point `p`.
+    pub fn sample(&self, p: Vec3, u: Vec2, geometry: &Geometry) -> Option<LightSample> {
+        match self {
+            Light::Point {
+                position,
+                intensity,
+            } => {
+                let d = *position - p;
+                let dist2 = d.length_squared();
+                let distance = dist2.sqrt();
+                Some(LightSample {
+                    wi: d / distance,
+                    distance,
+                    radiance: *intensity / dist2,
+                    pdf: 1.0,
+                    is_delta: true,
+                })
+            }
+            Light::Spot {
+                position,
+                axis,
+                intensity,
+                cos_inner,
+                cos_outer,
+            } => {
+                let d = *position - p;
+                let dist2 = d.length_squared();
+                let distance = dist2.sqrt();
+                let wi = d / distance;
+                let falloff = spot_falloff(axis.dot(-wi), *cos_inner, *cos_outer);
+                (falloff > 0.0).then(|| LightSample {
+                    wi,
+                    distance,
+                    radiance: *intensity * (falloff / dist2),
+                    pdf: 1.0,
+                    is_delta: true,
+                })
+            }
+            Light::Area {
+                radiance,
+                two_sided,
+                primitives,
+                cumulative_area,
+                ..
+            } => {
+                let total = *cumulative_area.last()?;
+                let target = u.x * total;
+                let k = cumulative_area
+                    .partition_point(|&c| c <= target)
+                    .min(primitives.len() - 1);
+                let lo = if k == 0 { 0.0 } else { cumulative_area[k - 1] };
+                let width = cumulative_area[k] - lo;
+                // Reuse the remainder of u.x inside the chosen primitive.
+                let ux = if width > 0.0 {
+                    ((target - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
+                } else {
+                    0.0
+                };
+                let prim: &Primitive = &geometry.primitives()[primitives[k] as usize];
+                let a = prim.sample_area(Vec2::new(ux, u.y));
+                let d = a.p - p;
+                let dist2 = d.length_squared();
+                let distance = dist2.sqrt();
+                if distance == 0.0 {
+                    return None;
+                }
+                let wi = d / distance;
+                let cos_light = a.n.dot(-wi);
+                if cos_light <= 0.0 && !two_sided || cos_light == 0.0 {
+                    return None;
+                }
+                Some(LightSample {
+                    wi,
+                    distance,
+                    radiance: *radiance,
+                    pdf: dist2 / (cos_light.abs() * total),
+                    is_delta: false,
+                })
+            }
+            Light::Sun {
+                to_sun,
+                irradiance,
+                cos_max,
+            } => {
+                if *cos_max >= 1.0 {
+                    return Some(LightSample {
+                        wi: *to_sun,
+                        distance: f32::INFINITY,
+                        radiance: *irradiance,
+                        pdf: 1.0,
+                        is_delta: true,
+                    });
+                }
+                let local = warp::square_to_uniform_cone(u, *cos_max);
+                Some(LightSample {
+                    wi: Frame::from_z(*to_sun).to_world(local).normalize(),
+                    distance: f32::INFINITY,
+                    radiance: sun_radiance(*irradiance, *cos_max),
+                    pdf: warp::uniform_cone_pdf(*cos_max),
+                    is_delta: false,
+                })
+            }
+            Light::Environment(env) => {
+                let wi = warp::square_to_uniform_sphere(u);
+                Some(LightSample {
+                    wi,
+                    distance: f32::INFINITY,
+                    radiance: env.radiance(wi),
+                    pdf: warp::uniform_sphere_pdf(),
+                    is_delta: false,
+                })
+            }
+        }
+    }
+
+    /// Radiance an escaping ray with direction `dir` receives from this infinite light.
+    pub fn escaped_radiance(&self, dir: Vec3) -> Rgb {
+        match self {
+            Light::Sun {
+                to_sun,
+                irradiance,
+                cos_max,
+            } if *cos_max < 1.0 && dir.dot(*to_sun) >= *cos_max => {
+                sun_radiance(*irradiance, *cos_max)
+            }
+            Light::Environment(env) => env.radiance(dir),
+            _ => Rgb::BLACK,
+        }
+    }
+
+    /// Solid-angle density with which `sample` would pick escaping direction `dir`.
+    pub fn escaped_pdf(&self, dir: Vec3) -> f32 {
+        match self {
+            Light::Sun {
+                to_sun, cos_max, ..
+            } if *cos_max < 1.0 && dir.dot(*to_sun) >= *cos_max => warp::uniform_cone_pdf(*cos_max),
+            Light::Environment(_) => warp::uniform_sphere_pdf(),
+            _ => 0.0,
+        }
+    }
+
+    /// Emitted radiance leaving an area light's surface toward `wo`, for normal `n`.
+    pub fn area_radiance(&self, n: Vec3, wo: Vec3) -> Rgb {
+        match self {
+            Light::Area {
+                radiance,
+                two_sided,
+                ..
+            } if *two_sided || n.dot(wo) > 0.0 => *radiance,
+            _ => Rgb::BLACK,
+        }
+    }
+
+    /// Solid-angle density with which `sample` from `p` picks the area-light point `hit_p` with normal `n`.
+    pub fn area_pdf(&self, p: Vec3, hit_p: Vec3, n: Vec3) -> f32 {
+        match self {
+            Light::Area {
+                cumulative_area, ..
+            } => {
+                let total = cumulative_area.last().copied().unwrap_or(0.0);
+                let d = hit_p - p;
+                let dist2 = d.length_squared();
+                let cos_light = n.dot(d / dist2.sqrt()).abs();
+                if cos_light == 0.0 || total == 0.0 {
+                    0.0
+                } else {
+                    dist2 / (cos_light * total)
+                }
+            }
+            _ => 0.0,
+        }
+    }
+}
+
+/// Radiance of a uniform sun disk that yields `irradiance` on a plane facing it.
+fn sun_radiance(irradiance: Rgb, cos_max: f32) -> Rgb {
+    // ∫cone L cosθ dω = L π sin²θmax.
+    irradiance / (PI * (1.0 - cos_max * cos_max))
+}
+
+/// Smooth spot falloff: 1 inside the inner cone, 0 outside the outer, smoothstep between.
+fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+    if cos_angle >= cos_inner {
+        1.0
+    } else if cos_angle <= cos_outer {
+        0.0
+    } else {
+        let t = (cos_angle - cos_outer) / (cos_inner - cos_outer);
+        t * t * (3.0 - 2.0 * t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+
+    #[test]
+    fn sun_disk_gives_its_irradiance() {
+        let light = Light::Sun {
+            to_sun: Vec3::Y,
+            irradiance: Rgb::splat(3.0),
+            cos_max: (0.1f32).cos(),
+        };
+        let geometry = Geometry::new(Vec::new());
+        let mut s = Sampler::from_seed(4);
+        let n = 10_000;
+        let mut sum = 0.0;
+        for _ in 0..n {
+            let ls = light.sample(Vec3::ZERO, s.next_2d(), &geometry).unwrap();
+            sum += ls.radiance.r * ls.wi.y / ls.pdf;
+        }
+        // cosθ varies by < 0.5% inside a 0.1 rad cone.
+        assert!((sum / n as f32 - 3.0).abs() < 0.02);
+    }
+
+    #[test]
+    fn area_light_pdf_matches_sample() {
+        let quad = Primitive::Parallelogram {
+            corner: Vec3::new(-0.5, 2.0, -0.5),
+            edge_u: Vec3::X,
+            edge_v: Vec3::Z,
+        };
+        let geometry = Geometry::new(vec![(quad, 0)]);
+        let light = Light::area(0, Rgb::WHITE, true, &geometry);
+        let mut s = Sampler::from_seed(8);
+        for _ in 0..100 {
+            let ls = light.sample(Vec3::ZERO, s.next_2d(), &geometry).unwrap();
+            let hit_p = ls.wi * ls.distance;
+            let pdf = light.area_pdf(Vec3::ZERO, hit_p, Vec3::Y);
+            assert!((pdf - ls.pdf).abs() < 1e-3 * pdf);
+        }
+    }
+}

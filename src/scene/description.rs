@@ -1,0 +1,389 @@
+//! The serde description of a scene file, exactly as written in TOML.
+//!
+//! Every struct rejects unknown keys; defaults are documented in README.md.
+//! Tables written as `{ type = "name", ... }` are read as serde's externally
+//! tagged enums (see `retag` in the parent module), which keeps the path of
+//! a bad field (`light[0].intensity[1]`) in error messages.
+
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+use std::path::PathBuf;
+
+/// An RGB triple written either as `[r, g, b]` or as one number for grey.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Color(pub [f32; 3]);
+
+impl<'de> Deserialize<'de> for Color {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Color, D::Error> {
+        struct ColorVisitor;
+        impl<'de> Visitor<'de> for ColorVisitor {
+            type Value = Color;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or an array of three numbers [r, g, b]")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Color, E> {
+                Ok(Color([v as f32; 3]))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Color, E> {
+                Ok(Color([v as f32; 3]))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Color, E> {
+                Ok(Color([v as f32; 3]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Color, A::Error> {
+                let mut c = [0.0f32; 3];
+                for (i, slot) in c.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element::<f32>()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<de::IgnoredAny>()?.is_some() {
+                    return Err(de::Error::invalid_length(4, &self));
+                }
+                Ok(Color(c))
+            }
+        }
+        d.deserialize_any(ColorVisitor)
+    }
+}
+
+/// The whole scene file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    /// `[camera]`.
+    pub camera: CameraDesc,
+    /// `[integrator]`.
+    #[serde(default)]
+    pub integrator: IntegratorDesc,
+    /// `[[light]]` entries.
+    #[serde(default, rename = "light")]
+    pub lights: Vec<LightDesc>,
+    /// `[[shape]]` entries.
+    #[serde(default, rename = "shape")]
+    pub shapes: Vec<ShapeDesc>,
+    /// `[[medium]]` entries (also accepted as `[[media]]`).
+    #[serde(default, rename = "medium", alias = "media")]
+    pub media: Vec<MediumDesc>,
+}
+
+/// `[camera]`: a pinhole camera.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    /// Eye position.
+    pub position: [f32; 3],
+    /// Point looked at.
+    pub look_at: [f32; 3],
+    /// Up hint.
+    #[serde(default = "default_up")]
+    pub up: [f32; 3],
+    /// Vertical field of view in degrees.
+    #[serde(default = "default_fov")]
+    pub fov: f32,
+    /// Image size `[width, height]` in pixels.
+    #[serde(default = "default_resolution")]
+    pub resolution: [u32; 2],
+}
+
+fn default_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_fov() -> f32 {
+    40.0
+}
+fn default_resolution() -> [u32; 2] {
+    [512, 512]
+}
+
+/// `[integrator]`: sampling settings.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntegratorDesc {
+    /// Samples per pixel.
+    #[serde(default = "default_spp")]
+    pub spp: u32,
+    /// Maximum number of scattering events (surface or medium) on a path.
+    #[serde(default = "default_max_depth")]
+    pub max_depth: u32,
+    /// Maximum number of medium scattering events (1 = single scattering).
+    #[serde(default)]
+    pub max_scatter_depth: Option<u32>,
+    /// Depth from which Russian roulette may end paths.
+    #[serde(default = "default_rr_depth")]
+    pub rr_depth: u32,
+    /// Scene seed of the random streams.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+impl Default for IntegratorDesc {
+    fn default() -> Self {
+        IntegratorDesc {
+            spp: default_spp(),
+            max_depth: default_max_depth(),
+            max_scatter_depth: None,
+            rr_depth: default_rr_depth(),
+            seed: 0,
+        }
+    }
+}
+
+fn default_spp() -> u32 {
+    64
+}
+fn default_max_depth() -> u32 {
+    64
+}
+fn default_rr_depth() -> u32 {
+    5
+}
+
+/// `[[light]]`: one light.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum LightDesc {
+    /// Isotropic point light.
+    Point {
+        /// Position.
+        position: [f32; 3],
+        /// Radiant intensity (W/sr).
+        intensity: Color,
+    },
+    /// Spot light.
+    Spot {
+        /// Position.
+        position: [f32; 3],
+        /// Point the spot aims at.
+        look_at: [f32; 3],
+        /// Radiant intensity on the axis (W/sr).
+        intensity: Color,
+        /// Half-angle of the cone in degrees.
+        #[serde(default = "default_cone_angle")]
+        cone_angle: f32,
+        /// Width of the soft edge in degrees (inside the cone).
+        #[serde(default = "default_cone_falloff")]
+        cone_falloff: f32,
+    },
+    /// The sun: a distant disk.
+    Sun {
+        /// Direction the light travels (from the sun toward the scene).
+        direction: [f32; 3],
+        /// Irradiance on a plane facing the sun (W/m²).
+        irradiance: Color,
+        /// Angular radius in degrees (0 = a delta light).
+        #[serde(default = "default_sun_radius")]
+        angular_radius: f32,
+    },
+    /// Constant environment radiance.
+    Environment {
+        /// Radiance from every direction.
+        radiance: Color,
+    },
+    /// Sky gradient environment.
+    Sky {
+        /// Radiance at the zenith.
+        zenith: Color,
+        /// Radiance at the horizon.
+        horizon: Color,
+        /// Radiance from below the horizon.
+        #[serde(default = "default_ground")]
+        ground: Color,
+        /// Up axis.
+        #[serde(default = "default_up")]
+        up: [f32; 3],
+    },
+}
+
+fn default_cone_angle() -> f32 {
+    30.0
+}
+fn default_cone_falloff() -> f32 {
+    5.0
+}
+fn default_sun_radius() -> f32 {
+    0.265
+}
+fn default_ground() -> Color {
+    Color([0.0; 3])
+}
+
+/// An affine placement: scale, then rotate (X, then Y, then Z, degrees), then translate.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformDesc {
+    /// Translation.
+    #[serde(default)]
+    pub translate: Option<[f32; 3]>,
+    /// Rotation angles in degrees about X, Y and Z, applied in that order.
+    #[serde(default)]
+    pub rotate: Option<[f32; 3]>,
+    /// Uniform (number) or per-axis (array) scale.
+    #[serde(default)]
+    pub scale: Option<Color>,
+}
+
+/// `material = { ... }` of a shape.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MaterialDesc {
+    /// Lambertian.
+    Diffuse {
+        /// Reflectance in [0, 1].
+        albedo: Color,
+    },
+    /// Normalized Phong glossy lobe.
+    Phong {
+        /// Reflectance in [0, 1].
+        albedo: Color,
+        /// Lobe exponent (≥ 0).
+        exponent: f32,
+    },
+    /// Perfect mirror.
+    Mirror {
+        /// Reflectance in [0, 1].
+        #[serde(default = "default_reflectance")]
+        reflectance: Color,
+    },
+}
+
+fn default_reflectance() -> Color {
+    Color([1.0; 3])
+}
+
+/// `[[shape]]`: geometry with a material and optional emission.
+///
+/// One flat table per shape; which geometric keys apply depends on `type`
+/// (checked when the scene is built, so a stray key is named in the error).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeDesc {
+    /// `sphere`, `quad`, `box` or `mesh`.
+    #[serde(rename = "type")]
+    pub kind: ShapeType,
+    /// Centre (sphere, quad, box).
+    #[serde(default)]
+    pub center: Option<[f32; 3]>,
+    /// Radius (sphere).
+    #[serde(default)]
+    pub radius: Option<f32>,
+    /// Front-facing normal (quad).
+    #[serde(default)]
+    pub normal: Option<[f32; 3]>,
+    /// Side lengths: `[u, v]` for a quad, `[x, y, z]` for a box.
+    #[serde(default)]
+    pub size: Option<Vec<f32>>,
+    /// Direction of the quad's first side (default: any tangent).
+    #[serde(default)]
+    pub u_axis: Option<[f32; 3]>,
+    /// OBJ file, relative to the scene file (mesh).
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+    /// Surface material (default: diffuse, albedo 0.5).
+    #[serde(default)]
+    pub material: Option<MaterialDesc>,
+    /// Emitted radiance: makes the shape an area light.
+    #[serde(default)]
+    pub emission: Option<Color>,
+    /// Emit from both sides.
+    #[serde(default)]
+    pub two_sided: bool,
+    /// Placement applied to the shape.
+    #[serde(default)]
+    pub transform: Option<TransformDesc>,
+}
+
+/// The kinds of shape.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "snake_case")]
+pub enum ShapeType {
+    /// A sphere: `center`, `radius`.
+    Sphere,
+    /// A rectangle: `center`, `normal`, `size = [u, v]`, optional `u_axis`.
+    Quad,
+    /// An axis-aligned box before its transform: `center`, `size = [x, y, z]`.
+    Box,
+    /// A triangle mesh from a Wavefront OBJ `file`.
+    Mesh,
+}
+
+/// `[[medium]]`: one participating medium.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum MediumDesc {
+    /// Constant coefficients inside a bounding shape, or everywhere.
+    Homogeneous {
+        /// Absorption coefficient (1/m).
+        #[serde(default)]
+        sigma_a: Option<Color>,
+        /// Scattering coefficient (1/m).
+        #[serde(default)]
+        sigma_s: Option<Color>,
+        /// Extinction coefficient (1/m), with `albedo` instead of sigma_a/sigma_s.
+        #[serde(default)]
+        sigma_t: Option<Color>,
+        /// Single-scattering albedo, with `sigma_t`.
+        #[serde(default)]
+        albedo: Option<Color>,
+        /// Emitted radiance Le (the source term is σa·Le).
+        #[serde(default)]
+        emission: Option<Color>,
+        /// Phase function.
+        #[serde(default)]
+        phase: Option<PhaseDesc>,
+        /// Region: a box or a sphere; omit with `global = true`.
+        #[serde(default)]
+        bounds: Option<BoundsDesc>,
+        /// Fill all of space.
+        #[serde(default)]
+        global: bool,
+        /// Placement of the bounds.
+        #[serde(default)]
+        transform: Option<TransformDesc>,
+    },
+}
+
+/// `phase = { ... }` of a medium.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum PhaseDesc {
+    /// Isotropic.
+    Isotropic {},
+    /// Henyey–Greenstein with asymmetry g in (-1, 1).
+    Hg {
+        /// Mean cosine.
+        g: f32,
+    },
+    /// Rayleigh.
+    Rayleigh {},
+    /// Two HG lobes: weight·HG(g_forward) + (1-weight)·HG(g_back).
+    DoubleHg {
+        /// Forward lobe asymmetry.
+        g_forward: f32,
+        /// Backward lobe asymmetry.
+        g_back: f32,
+        /// Weight of the forward lobe in [0, 1].
+        weight: f32,
+    },
+}
+
+/// Region of a bounded medium.
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum BoundsDesc {
+    /// Axis-aligned box before the transform.
+    Box {
+        /// Minimum corner.
+        min: [f32; 3],
+        /// Maximum corner.
+        max: [f32; 3],
+    },
+    /// Sphere before the transform.
+    Sphere {
+        /// Centre.
+        #[serde(default)]
+        center: [f32; 3],
+        /// Radius.
+        radius: f32,
+    },
+}

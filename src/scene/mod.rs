@@ -1,0 +1,299 @@
+//! Scene files: parsing TOML into a `SceneDesc`, validating it with errors
+//! that name the file and field, and building the runtime `Scene`.
+
+pub mod description;
+mod shapes;
+mod validate;
+
+use crate::camera::Camera;
+use crate::color::Rgb;
+use crate::error::{Error, Result};
+use crate::geometry::Geometry;
+use crate::integrator::{Scene, Settings};
+use crate::light::{Environment, Light};
+use crate::material::Material;
+use description::{LightDesc, MaterialDesc, SceneDesc};
+use std::path::{Path, PathBuf};
+use validate::Check;
+
+/// Reads, validates and builds the scene in `path`.
+pub fn load(path: &Path) -> Result<Scene> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Input {
+        path: path.to_path_buf(),
+        message: format!("cannot read scene file: {e}"),
+    })?;
+    let desc = parse(&text, path)?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    build(&desc, path, &base)
+}
+
+/// Parses scene TOML; errors carry the line (syntax) or the dotted path of the culprit.
+pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
+    let scene_error = |field: String, message: String| Error::Scene {
+        file: file.to_path_buf(),
+        field,
+        message,
+    };
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| {
+        let line = e
+            .span()
+            .map(|s| text[..s.start.min(text.len())].lines().count().max(1))
+            .unwrap_or(1);
+        scene_error(
+            format!("line {line}"),
+            e.message().trim().replace('\n', " "),
+        )
+    })?;
+    for (key, value) in table.iter_mut() {
+        retag(value, key, key).map_err(|(field, message)| scene_error(field, message))?;
+    }
+    serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+        let field = field_path(e.path());
+        let message = e.into_inner().message().trim().replace('\n', " ");
+        scene_error(
+            if field.is_empty() {
+                "scene".into()
+            } else {
+                field
+            },
+            message,
+        )
+    })
+}
+
+/// Keys whose tables carry a `type` that selects an enum variant.
+const TAGGED_KEYS: [&str; 6] = ["light", "medium", "media", "material", "phase", "bounds"];
+
+/// Rewrites every `{ type = "name", ... }` table under a tagged key into
+/// `{ name = { ... } }`; returns (field path, message) for a missing or bad `type`.
+fn retag(
+    value: &mut toml::Value,
+    key: &str,
+    path: &str,
+) -> std::result::Result<(), (String, String)> {
+    match value {
+        toml::Value::Array(items) => {
+            for (i, item) in items.iter_mut().enumerate() {
+                retag(item, key, &format!("{path}[{i}]"))?;
+            }
+        }
+        toml::Value::Table(table) => {
+            for (child_key, child) in table.iter_mut() {
+                let child_path = if path.is_empty() {
+                    child_key.clone()
+                } else {
+                    format!("{path}.{child_key}")
+                };
+                retag(child, child_key, &child_path)?;
+            }
+            if TAGGED_KEYS.contains(&key) {
+                let name = match table.remove("type") {
+                    Some(toml::Value::String(name)) => name,
+                    Some(_) => return Err((format!("{path}.type"), "must be a string".into())),
+                    None => return Err((path.to_string(), "missing key `type`".into())),
+                };
+                let inner = std::mem::take(table);
+                table.insert(name, toml::Value::Table(inner));
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// `light[0].intensity[1]` from a serde path, leaving out enum variant names.
+fn field_path(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    let mut out = String::new();
+    for segment in path.iter() {
+        match segment {
+            Segment::Seq { index } => out.push_str(&format!("[{index}]")),
+            Segment::Map { key } => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                out.push_str(key);
+            }
+            Segment::Enum { .. } | Segment::Unknown => {}
+        }
+    }
+    out
+}
+
+/// Builds the runtime scene from a parsed description.
+pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
+    let check = Check::new(file);
+    let camera = build_camera(desc, &check)?;
+    let integ = &desc.integrator;
+    check.positive_int("integrator.spp", integ.spp)?;
+    if desc.shapes.is_empty() && desc.lights.is_empty() && desc.media.is_empty() {
+        return Err(check.error("scene", "the scene is empty: no shape, light or medium"));
+    }
+    let settings = Settings {
+        spp: integ.spp,
+        max_depth: integ.max_depth,
+        max_scatter_depth: integ.max_scatter_depth.unwrap_or(u32::MAX),
+        rr_depth: integ.rr_depth,
+        seed: integ.seed,
+    };
+
+    let mut items = Vec::new();
+    let mut shape_materials = Vec::with_capacity(desc.shapes.len());
+    for (i, shape) in desc.shapes.iter().enumerate() {
+        let field = format!("shape[{i}]");
+        let prims = shapes::build_shape(shape, &field, &check, base)?;
+        items.extend(prims.into_iter().map(|p| (p, i as u32)));
+        shape_materials.push(build_material(shape.material.as_ref(), &field, &check)?);
+    }
+    let geometry = Geometry::new(items);
+
+    let mut lights = Vec::new();
+    let mut shape_lights = vec![None; desc.shapes.len()];
+    for (i, shape) in desc.shapes.iter().enumerate() {
+        if let Some(emission) = shape.emission {
+            let radiance = check.color(&format!("shape[{i}].emission"), emission)?;
+            if !radiance.is_black() {
+                shape_lights[i] = Some(lights.len() as u32);
+                lights.push(Light::area(i as u32, radiance, shape.two_sided, &geometry));
+            }
+        }
+    }
+    let mut environments = 0;
+    for (i, light) in desc.lights.iter().enumerate() {
+        let built = build_light(light, &format!("light[{i}]"), &check)?;
+        if matches!(built, Light::Environment(_)) {
+            environments += 1;
+            if environments > 1 {
+                return Err(check.error(
+                    &format!("light[{i}]"),
+                    "only one environment or sky light is allowed",
+                ));
+            }
+        }
+        lights.push(built);
+    }
+
+    if !desc.media.is_empty() {
+        return Err(check.error(
+            "medium[0]",
+            "participating media are not supported by this build yet",
+        ));
+    }
+
+    Ok(Scene {
+        camera,
+        geometry,
+        shape_materials,
+        shape_lights,
+        lights,
+        settings,
+    })
+}
+
+fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
+    let c = &desc.camera;
+    let position = check.vec3("camera.position", c.position)?;
+    let look_at = check.vec3("camera.look_at", c.look_at)?;
+    let up = check.vec3("camera.up", c.up)?;
+    check.range("camera.fov", c.fov, 0.0, 180.0, false)?;
+    let [w, h] = c.resolution;
+    check.positive_int("camera.resolution[0]", w)?;
+    check.positive_int("camera.resolution[1]", h)?;
+    if w > 32768 || h > 32768 {
+        return Err(check.error("camera.resolution", "at most 32768 pixels a side"));
+    }
+    if (look_at - position).length() == 0.0 {
+        return Err(check.error("camera.look_at", "equals camera.position"));
+    }
+    Camera::new(position, look_at, up, c.fov, w, h)
+        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))
+}
+
+fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Result<Material> {
+    let field = format!("{field}.material");
+    Ok(match desc {
+        None => Material::Diffuse {
+            albedo: Rgb::splat(0.5),
+        },
+        Some(MaterialDesc::Diffuse { albedo }) => Material::Diffuse {
+            albedo: check.albedo(&format!("{field}.albedo"), *albedo)?,
+        },
+        Some(MaterialDesc::Phong { albedo, exponent }) => Material::Phong {
+            albedo: check.albedo(&format!("{field}.albedo"), *albedo)?,
+            exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
+        },
+        Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
+            reflectance: check.albedo(&format!("{field}.reflectance"), *reflectance)?,
+        },
+    })
+}
+
+fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
+    let f = |name: &str| format!("{field}.{name}");
+    Ok(match desc {
+        LightDesc::Point {
+            position,
+            intensity,
+        } => Light::Point {
+            position: check.vec3(&f("position"), *position)?,
+            intensity: check.color(&f("intensity"), *intensity)?,
+        },
+        LightDesc::Spot {
+            position,
+            look_at,
+            intensity,
+            cone_angle,
+            cone_falloff,
+        } => {
+            let position = check.vec3(&f("position"), *position)?;
+            let axis = (check.vec3(&f("look_at"), *look_at)? - position)
+                .try_normalize()
+                .ok_or_else(|| check.error(&f("look_at"), "equals the light position"))?;
+            let outer = check.range(&f("cone_angle"), *cone_angle, 0.0, 180.0, false)?;
+            let falloff = check.range(&f("cone_falloff"), *cone_falloff, 0.0, outer, true)?;
+            Light::Spot {
+                position,
+                axis,
+                intensity: check.color(&f("intensity"), *intensity)?,
+                cos_inner: (outer - falloff).to_radians().cos(),
+                cos_outer: outer.to_radians().cos(),
+            }
+        }
+        LightDesc::Sun {
+            direction,
+            irradiance,
+            angular_radius,
+        } => {
+            let travel = check.direction(&f("direction"), *direction)?;
+            let radius = check.range(&f("angular_radius"), *angular_radius, 0.0, 90.0, true)?;
+            Light::Sun {
+                to_sun: -travel,
+                irradiance: check.color(&f("irradiance"), *irradiance)?,
+                cos_max: radius.to_radians().cos(),
+            }
+        }
+        LightDesc::Environment { radiance } => Light::Environment(Environment::Constant {
+            radiance: check.color(&f("radiance"), *radiance)?,
+        }),
+        LightDesc::Sky {
+            zenith,
+            horizon,
+            ground,
+            up,
+        } => Light::Environment(Environment::Sky {
+            zenith: check.color(&f("zenith"), *zenith)?,
+            horizon: check.color(&f("horizon"), *horizon)?,
+            ground: check.color(&f("ground"), *ground)?,
+            up: check.direction(&f("up"), *up)?,
+        }),
+    })
+}
+
+/// Resolves a path written in a scene file against the scene's folder.
+pub(crate) fn resolve(base: &Path, p: &Path) -> PathBuf {
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
+}

@@ -1,0 +1,246 @@
+//! Turning `[[shape]]` entries (and OBJ files) into primitives.
+
+use super::description::{ShapeDesc, ShapeType, TransformDesc};
+use super::resolve;
+use super::validate::Check;
+use crate::error::{Error, Result};
+use crate::geometry::Primitive;
+use crate::math::{Affine3A, Frame, Quat, Vec3};
+use std::path::Path;
+
+/// The affine map of a `transform = { ... }` table (identity when absent).
+pub(crate) fn build_transform(
+    t: Option<&TransformDesc>,
+    field: &str,
+    check: &Check,
+) -> Result<Affine3A> {
+    let Some(t) = t else {
+        return Ok(Affine3A::IDENTITY);
+    };
+    let f = |name: &str| format!("{field}.transform.{name}");
+    let scale = match t.scale {
+        Some(s) => {
+            let mut v = [0.0; 3];
+            for (i, &c) in s.0.iter().enumerate() {
+                v[i] = check.positive(&format!("{}[{i}]", f("scale")), c)?;
+            }
+            Vec3::from_array(v)
+        }
+        None => Vec3::ONE,
+    };
+    let rotation = match t.rotate {
+        Some(r) => {
+            let r = check.vec3(&f("rotate"), r)?;
+            Quat::from_rotation_z(r.z.to_radians())
+                * Quat::from_rotation_y(r.y.to_radians())
+                * Quat::from_rotation_x(r.x.to_radians())
+        }
+        None => Quat::IDENTITY,
+    };
+    let translation = match t.translate {
+        Some(tr) => check.vec3(&f("translate"), tr)?,
+        None => Vec3::ZERO,
+    };
+    Ok(Affine3A::from_scale_rotation_translation(
+        scale,
+        rotation,
+        translation,
+    ))
+}
+
+/// Names the keys set on `shape` that its type does not use.
+fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<()> {
+    let used: &[&str] = match shape.kind {
+        ShapeType::Sphere => &["center", "radius"],
+        ShapeType::Quad => &["center", "normal", "size", "u_axis"],
+        ShapeType::Box => &["center", "size"],
+        ShapeType::Mesh => &["file"],
+    };
+    let present = [
+        ("center", shape.center.is_some()),
+        ("radius", shape.radius.is_some()),
+        ("normal", shape.normal.is_some()),
+        ("size", shape.size.is_some()),
+        ("u_axis", shape.u_axis.is_some()),
+        ("file", shape.file.is_some()),
+    ];
+    for (key, set) in present {
+        if set && !used.contains(&key) {
+            return Err(check.error(
+                &format!("{field}.{key}"),
+                format!("unknown key for a shape of type {:?}", shape.kind).to_lowercase(),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn required<T: Copy>(v: Option<T>, field: &str, key: &str, check: &Check) -> Result<T> {
+    v.ok_or_else(|| check.error(&format!("{field}.{key}"), "missing"))
+}
+
+/// The primitives of one shape entry, in world space.
+pub(crate) fn build_shape(
+    shape: &ShapeDesc,
+    field: &str,
+    check: &Check,
+    base: &Path,
+) -> Result<Vec<Primitive>> {
+    reject_foreign_keys(shape, field, check)?;
+    let m = build_transform(shape.transform.as_ref(), field, check)?;
+    let center = check.vec3(&format!("{field}.center"), shape.center.unwrap_or([0.0; 3]))?;
+    let size = |n: usize| -> Result<Vec<f32>> {
+        let s = shape
+            .size
+            .as_ref()
+            .ok_or_else(|| check.error(&format!("{field}.size"), "missing"))?;
+        if s.len() != n {
+            return Err(check.error(&format!("{field}.size"), format!("must have {n} numbers")));
+        }
+        s.iter()
+            .enumerate()
+            .map(|(i, &v)| check.positive(&format!("{field}.size[{i}]"), v))
+            .collect()
+    };
+    let parallelogram = |c: Vec3, eu: Vec3, ev: Vec3| Primitive::Parallelogram {
+        corner: m.transform_point3(c - 0.5 * (eu + ev)),
+        edge_u: m.transform_vector3(eu),
+        edge_v: m.transform_vector3(ev),
+    };
+    Ok(match shape.kind {
+        ShapeType::Sphere => {
+            let radius = check.positive(
+                &format!("{field}.radius"),
+                required(shape.radius, field, "radius", check)?,
+            )?;
+            let (scale, _, _) = m.to_scale_rotation_translation();
+            if (scale.max_element() - scale.min_element()).abs() > 1e-5 * scale.max_element() {
+                return Err(check.error(
+                    &format!("{field}.transform.scale"),
+                    "a sphere needs a uniform scale",
+                ));
+            }
+            vec![Primitive::Sphere {
+                center: m.transform_point3(center),
+                radius: radius * scale.x,
+            }]
+        }
+        ShapeType::Quad => {
+            let normal = check.direction(
+                &format!("{field}.normal"),
+                required(shape.normal, field, "normal", check)?,
+            )?;
+            let s = size(2)?;
+            let u_dir = match shape.u_axis {
+                Some(u) => {
+                    let u = check.direction(&format!("{field}.u_axis"), u)?;
+                    (u - normal * u.dot(normal))
+                        .try_normalize()
+                        .ok_or_else(|| {
+                            check.error(&format!("{field}.u_axis"), "is parallel to the normal")
+                        })?
+                }
+                None => Frame::from_z(normal).x,
+            };
+            let v_dir = normal.cross(u_dir);
+            // edge_u × edge_v must point along the normal: u × (n × u) = n.
+            vec![parallelogram(center, u_dir * s[0], v_dir * s[1])]
+        }
+        ShapeType::Box => {
+            let s = size(3)?;
+            let h = Vec3::new(s[0], s[1], s[2]) * 0.5;
+            let mut faces = Vec::with_capacity(6);
+            for axis in 0..3 {
+                for sign in [-1.0f32, 1.0] {
+                    let mut n = Vec3::ZERO;
+                    n[axis] = sign;
+                    let mut eu = Vec3::ZERO;
+                    let mut ev = Vec3::ZERO;
+                    eu[(axis + 1) % 3] = 2.0 * h[(axis + 1) % 3];
+                    ev[(axis + 2) % 3] = 2.0 * h[(axis + 2) % 3];
+                    if sign < 0.0 {
+                        std::mem::swap(&mut eu, &mut ev);
+                    }
+                    faces.push(parallelogram(center + n * h[axis], eu, ev));
+                }
+            }
+            faces
+        }
+        ShapeType::Mesh => {
+            let file = shape
+                .file
+                .as_ref()
+                .ok_or_else(|| check.error(&format!("{field}.file"), "missing"))?;
+            let path = resolve(base, file);
+            load_obj(&path, &m, &format!("{field}.file"), check)?
+        }
+    })
+}
+
+/// Triangles of an OBJ file, transformed by `m`.
+fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Vec<Primitive>> {
+    if !path.is_file() {
+        return Err(check.error(field, format!("OBJ file {} not found", path.display())));
+    }
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj(path, &options).map_err(|e| Error::Input {
+        path: path.to_path_buf(),
+        message: format!("cannot read OBJ: {e}"),
+    })?;
+    let normal_matrix = m.matrix3.inverse().transpose();
+    let mut prims = Vec::new();
+    for model in &models {
+        let mesh = &model.mesh;
+        let vertex = |i: u32| -> Option<Vec3> {
+            let k = 3 * i as usize;
+            let p = Vec3::new(
+                *mesh.positions.get(k)?,
+                *mesh.positions.get(k + 1)?,
+                *mesh.positions.get(k + 2)?,
+            );
+            Some(m.transform_point3(p))
+        };
+        let normal = |i: u32| -> Vec3 {
+            let k = 3 * i as usize;
+            match mesh.normals.get(k..k + 3) {
+                Some(n) => (normal_matrix * Vec3::new(n[0], n[1], n[2])).normalize_or_zero(),
+                None => Vec3::ZERO,
+            }
+        };
+        for tri in mesh.indices.chunks_exact(3) {
+            let bad = || Error::Input {
+                path: path.to_path_buf(),
+                message: format!("model {:?}: face index out of range", model.name),
+            };
+            let p = [
+                vertex(tri[0]).ok_or_else(bad)?,
+                vertex(tri[1]).ok_or_else(bad)?,
+                vertex(tri[2]).ok_or_else(bad)?,
+            ];
+            if !p.iter().all(|v| v.is_finite()) {
+                return Err(Error::Input {
+                    path: path.to_path_buf(),
+                    message: format!("model {:?}: non-finite vertex", model.name),
+                });
+            }
+            if (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0 {
+                continue;
+            }
+            prims.push(Primitive::Triangle {
+                p,
+                n: [normal(tri[0]), normal(tri[1]), normal(tri[2])],
+            });
+        }
+    }
+    if prims.is_empty() {
+        return Err(Error::Input {
+            path: path.to_path_buf(),
+            message: "OBJ file holds no triangles".into(),
+        });
+    }
+    Ok(prims)
+}

@@ -1,0 +1,122 @@
+//! Value checks that turn bad numbers into errors naming the file and field.
+
+use crate::color::Rgb;
+use crate::error::Error;
+use crate::math::Vec3;
+use crate::scene::description::Color;
+use std::path::{Path, PathBuf};
+
+/// Checks values of one scene file.
+pub(crate) struct Check {
+    file: PathBuf,
+}
+
+impl Check {
+    /// Checks for values of `file`.
+    pub fn new(file: &Path) -> Check {
+        Check {
+            file: file.to_path_buf(),
+        }
+    }
+
+    /// An error about `field`.
+    pub fn error(&self, field: &str, message: impl Into<String>) -> Error {
+        Error::Scene {
+            file: self.file.clone(),
+            field: field.to_string(),
+            message: message.into(),
+        }
+    }
+
+    /// A finite number.
+    pub fn finite(&self, field: &str, v: f32) -> Result<f32, Error> {
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.error(field, format!("must be a finite number, got {v}")))
+        }
+    }
+
+    /// A number in `(lo, hi)`, or `[lo, hi]` when `inclusive`.
+    pub fn range(
+        &self,
+        field: &str,
+        v: f32,
+        lo: f32,
+        hi: f32,
+        inclusive: bool,
+    ) -> Result<f32, Error> {
+        let v = self.finite(field, v)?;
+        let ok = if inclusive {
+            v >= lo && v <= hi
+        } else {
+            v > lo && v < hi
+        };
+        if ok {
+            Ok(v)
+        } else {
+            let (a, b) = if inclusive { ("[", "]") } else { ("(", ")") };
+            Err(self.error(field, format!("must be in {a}{lo}, {hi}{b}, got {v}")))
+        }
+    }
+
+    /// A number > 0.
+    pub fn positive(&self, field: &str, v: f32) -> Result<f32, Error> {
+        let v = self.finite(field, v)?;
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(self.error(field, format!("must be positive, got {v}")))
+        }
+    }
+
+    /// An integer > 0.
+    pub fn positive_int(&self, field: &str, v: u32) -> Result<u32, Error> {
+        if v > 0 {
+            Ok(v)
+        } else {
+            Err(self.error(field, "must be at least 1"))
+        }
+    }
+
+    /// A finite point or vector.
+    pub fn vec3(&self, field: &str, a: [f32; 3]) -> Result<Vec3, Error> {
+        for (i, &v) in a.iter().enumerate() {
+            self.finite(&format!("{field}[{i}]"), v)?;
+        }
+        Ok(Vec3::from_array(a))
+    }
+
+    /// A non-zero vector, normalized.
+    pub fn direction(&self, field: &str, a: [f32; 3]) -> Result<Vec3, Error> {
+        self.vec3(field, a)?
+            .try_normalize()
+            .ok_or_else(|| self.error(field, "must be a non-zero vector"))
+    }
+
+    /// A colour with finite, non-negative channels.
+    pub fn color(&self, field: &str, c: Color) -> Result<Rgb, Error> {
+        for (i, &v) in c.0.iter().enumerate() {
+            let v = self.finite(&format!("{field}[{i}]"), v)?;
+            if v < 0.0 {
+                return Err(self.error(
+                    field,
+                    format!("must not be negative, got {v} in channel {i}"),
+                ));
+            }
+        }
+        Ok(Rgb::from_array(c.0))
+    }
+
+    /// A reflectance or albedo: channels in [0, 1].
+    pub fn albedo(&self, field: &str, c: Color) -> Result<Rgb, Error> {
+        let rgb = self.color(field, c)?;
+        if rgb.max_channel() > 1.0 {
+            return Err(self.error(
+                field,
+                format!("must be at most 1 in every channel, got {:?}", c.0),
+            ));
+        }
+        Ok(rgb)
+    }
+}

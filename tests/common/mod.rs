@@ -1,0 +1,124 @@
+//! Helpers shared by the integration tests: scenes from TOML text and
+//! per-pixel Monte Carlo statistics.
+#![allow(dead_code, clippy::needless_range_loop)]
+
+use brume::color::Rgb;
+use brume::integrator::{li, Scene};
+use brume::math::Ray;
+use brume::sampling::Sampler;
+use std::path::Path;
+
+/// Builds a scene from TOML text as if it were the file `test.toml` in the crate root.
+pub fn scene_from_str(text: &str) -> Scene {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("test.toml");
+    let desc = brume::scene::parse(text, &file).expect("parse");
+    brume::scene::build(&desc, &file, Path::new(env!("CARGO_MANIFEST_DIR"))).expect("build")
+}
+
+/// Mean and standard error of the mean of a set of samples (per channel).
+#[derive(Clone, Copy, Debug)]
+pub struct Estimate {
+    pub mean: [f64; 3],
+    pub std_error: [f64; 3],
+    pub n: usize,
+}
+
+/// Running sums from which an `Estimate` is formed.
+#[derive(Clone, Copy, Default)]
+pub struct Accumulator {
+    sum: [f64; 3],
+    sum2: [f64; 3],
+    n: usize,
+}
+
+impl Accumulator {
+    pub fn add(&mut self, v: Rgb) {
+        for c in 0..3 {
+            let x = v[c] as f64;
+            self.sum[c] += x;
+            self.sum2[c] += x * x;
+        }
+        self.n += 1;
+    }
+
+    pub fn estimate(&self) -> Estimate {
+        let n = self.n as f64;
+        let mut mean = [0.0; 3];
+        let mut std_error = [0.0; 3];
+        for c in 0..3 {
+            mean[c] = self.sum[c] / n;
+            let var = (self.sum2[c] / n - mean[c] * mean[c]).max(0.0) * n / (n - 1.0).max(1.0);
+            std_error[c] = (var / n).sqrt();
+        }
+        Estimate {
+            mean,
+            std_error,
+            n: self.n,
+        }
+    }
+}
+
+/// Estimates the radiance along `ray` with `n` independent paths.
+pub fn estimate_ray(scene: &Scene, ray: Ray, n: usize, seed: u64) -> Estimate {
+    let mut acc = Accumulator::default();
+    for i in 0..n {
+        let mut sampler = Sampler::new(seed, 0, 0, i as u64);
+        acc.add(li(scene, ray, &mut sampler));
+    }
+    acc.estimate()
+}
+
+/// Per-pixel estimates of a whole image with `spp` samples each.
+pub fn estimate_pixels(scene: &Scene, spp: usize) -> Vec<Estimate> {
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let mut out = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let mut acc = Accumulator::default();
+            for s in 0..spp {
+                let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
+                let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+                acc.add(li(scene, ray, &mut sampler));
+            }
+            out.push(acc.estimate());
+        }
+    }
+    out
+}
+
+/// Asserts every pixel and the image mean equal `expected` within k standard errors.
+///
+/// Per pixel k = 5 (two-sided p ≈ 6e-7, so a few hundred pixels rarely
+/// trip by chance); for the pooled mean k = 4. A pixel whose samples are
+/// all equal has zero error and must then match to rounding.
+pub fn assert_pixels_equal(pixels: &[Estimate], expected: [f64; 3], what: &str) {
+    let mut total = Accumulator::default();
+    for (i, p) in pixels.iter().enumerate() {
+        for c in 0..3 {
+            let tol = 5.0 * p.std_error[c] + 1e-5 * expected[c].abs().max(1.0);
+            assert!(
+                (p.mean[c] - expected[c]).abs() <= tol,
+                "{what}: pixel {i} channel {c}: {} ± {} vs {}",
+                p.mean[c],
+                p.std_error[c],
+                expected[c]
+            );
+        }
+        total.add(Rgb::new(
+            p.mean[0] as f32,
+            p.mean[1] as f32,
+            p.mean[2] as f32,
+        ));
+    }
+    let pooled = total.estimate();
+    for c in 0..3 {
+        let tol = 4.0 * pooled.std_error[c] + 1e-5 * expected[c].abs().max(1.0);
+        assert!(
+            (pooled.mean[c] - expected[c]).abs() <= tol,
+            "{what}: image mean channel {c}: {} ± {} vs {}",
+            pooled.mean[c],
+            pooled.std_error[c],
+            expected[c]
+        );
+    }
+}
