@@ -1,1 +1,2 @@
 //! brume: a physically based renderer for participating media.
+pub mod volume;
