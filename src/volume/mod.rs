@@ -93,6 +93,11 @@ impl VdbFile {
             path: path.to_path_buf(),
             source,
         })?;
+        VdbFile::from_bytes(path, data)
+    }
+
+    /// Reads a VDB file held in memory; `path` only names it in messages.
+    pub fn from_bytes(path: &Path, data: Vec<u8>) -> Result<VdbFile, VolumeError> {
         let (header, _file_meta, grids) = format::read_file(&data).map_err(|e| e.for_file(path))?;
         Ok(VdbFile {
             path: path.to_path_buf(),
