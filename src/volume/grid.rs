@@ -325,30 +325,36 @@ impl FloatGrid {
 
     /// Trilinear interpolation at an index-space point given in f64.
     pub fn trilinear_index_f64(&self, p: DVec3) -> f32 {
+        // far outside any tree (|ijk| < 2^31); keeps the corner arithmetic from overflowing
+        let p = p.clamp(DVec3::splat(-1.0e9), DVec3::splat(1.0e9));
         let f = p.floor();
         let i = f.as_ivec3();
         let w = p - f;
-        let mut v = [[[0.0f32; 2]; 2]; 2];
-        let leaf = match self.bricks.get(i >> 3) {
-            Some(e) if e & TILE_FLAG == 0 && ((i & 7).cmplt(IVec3::splat(7))).all() => Some(e),
-            _ => None,
-        };
-        if let Some(e) = leaf {
-            // all eight corners lie in one leaf: index it directly
-            let base = e as usize * LEAF_VOXELS + leaf_offset(i);
-            let vals = &self.leaf_values[base..base + 74];
-            for (dx, vx) in v.iter_mut().enumerate() {
-                for (dy, vy) in vx.iter_mut().enumerate() {
-                    let o = dx * 64 + dy * 8;
-                    *vy = [vals[o], vals[o + 1]];
+        // the eight corners span at most 2×2×2 bricks: one table lookup per brick
+        let b: IVec3 = i >> 3i32;
+        let span = IVec3::select((i & 7).cmpeq(IVec3::splat(7)), IVec3::splat(2), IVec3::ONE);
+        let mut entries = [[[None; 2]; 2]; 2];
+        for bx in 0..span.x as usize {
+            for by in 0..span.y as usize {
+                for bz in 0..span.z as usize {
+                    let key = b + IVec3::new(bx as i32, by as i32, bz as i32);
+                    entries[bx][by][bz] = self.bricks.get(key);
                 }
             }
-        } else {
-            for (dx, vx) in v.iter_mut().enumerate() {
-                for (dy, vy) in vx.iter_mut().enumerate() {
-                    for (dz, vz) in vy.iter_mut().enumerate() {
-                        *vz = self.value(i + IVec3::new(dx as i32, dy as i32, dz as i32));
-                    }
+        }
+        let mut v = [[[0.0f32; 2]; 2]; 2];
+        for (dx, vx) in v.iter_mut().enumerate() {
+            for (dy, vy) in vx.iter_mut().enumerate() {
+                for (dz, vz) in vy.iter_mut().enumerate() {
+                    let c = i + IVec3::new(dx as i32, dy as i32, dz as i32);
+                    let s = ((c >> 3i32) - b).as_uvec3();
+                    *vz = match entries[s.x as usize][s.y as usize][s.z as usize] {
+                        Some(e) if e & TILE_FLAG == 0 => {
+                            self.leaf_values[e as usize * LEAF_VOXELS + leaf_offset(c)]
+                        }
+                        Some(e) => self.tiles[(e & !TILE_FLAG) as usize].value,
+                        None => self.coarse_value(c),
+                    };
                 }
             }
         }
