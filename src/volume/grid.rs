@@ -334,11 +334,12 @@ impl FloatGrid {
         let b: IVec3 = i >> 3i32;
         let span = IVec3::select((i & 7).cmpeq(IVec3::splat(7)), IVec3::splat(2), IVec3::ONE);
         let mut entries = [[[None; 2]; 2]; 2];
-        for bx in 0..span.x as usize {
-            for by in 0..span.y as usize {
-                for bz in 0..span.z as usize {
-                    let key = b + IVec3::new(bx as i32, by as i32, bz as i32);
-                    entries[bx][by][bz] = self.bricks.get(key);
+        for (bx, ex) in entries.iter_mut().enumerate().take(span.x as usize) {
+            for (by, ey) in ex.iter_mut().enumerate().take(span.y as usize) {
+                for (bz, ez) in ey.iter_mut().enumerate().take(span.z as usize) {
+                    *ez = self
+                        .bricks
+                        .get(b + IVec3::new(bx as i32, by as i32, bz as i32));
                 }
             }
         }
