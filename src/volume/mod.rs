@@ -12,7 +12,7 @@
 //! the files Houdini and Blender write by default, and patching around a
 //! library that may abort is not possible, so the whole path is ours:
 //!
-//! * [`bytes`]: a bounds-checked cursor; every count and length read from the
+//! * `bytes`: a bounds-checked cursor; every count and length read from the
 //!   file is checked against the bytes left before anything is allocated.
 //! * `format`: header, magic number, file and grid metadata, grid
 //!   descriptors, per-grid compression flags (`io/Archive.cc`).
