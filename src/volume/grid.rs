@@ -1,0 +1,376 @@
+//! brume's sparse float grid: 8³ leaf bricks and constant tiles (8³, 128³ and
+//! 4096³ voxels a side, the three tile levels of an OpenVDB 5-4-3 tree),
+//! found through coordinate hash tables. Storage grows with the leaves and
+//! tiles, not with the bounding box.
+
+use glam::{DVec3, IVec3, Vec3};
+
+use super::coord_map::CoordMap;
+use super::error::{FResult, FormatError};
+use super::transform::GridTransform;
+
+/// Voxels in a leaf brick.
+pub(crate) const LEAF_VOXELS: usize = 512;
+/// Marks a brick-table entry that is a tile, not a leaf.
+const TILE_FLAG: u32 = 1 << 31;
+
+/// A leaf brick or a tile of constant value, for building majorant grids.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Block {
+    /// Lowest voxel of the block (inclusive).
+    pub min: IVec3,
+    /// Voxels per side: 8 (leaf or 8³ tile), 128 or 4096 (larger tiles).
+    pub size: i32,
+    /// Smallest value stored in the block (active or not).
+    pub min_value: f32,
+    /// Largest value stored in the block (active or not).
+    pub max_value: f32,
+}
+
+/// A constant region of the tree.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Tile {
+    /// Lowest voxel.
+    pub origin: IVec3,
+    /// log2 of the side: 3, 7 or 12.
+    pub log2: u32,
+    /// The value of every voxel in it.
+    pub value: f32,
+    /// Whether its voxels are active.
+    pub active: bool,
+}
+
+/// Leaves and tiles gathered while reading a tree.
+#[derive(Debug, Default)]
+pub(crate) struct GridBuilder {
+    /// Leaf origins (multiples of 8).
+    pub leaf_origins: Vec<IVec3>,
+    /// Leaf active masks, 512 bits each.
+    pub leaf_masks: Vec<[u64; 8]>,
+    /// 512 values per leaf, x-major (offset = x·64 + y·8 + z).
+    pub leaf_values: Vec<f32>,
+    /// Tiles whose value a lookup can return: active ones and those that differ from the background.
+    pub tiles: Vec<Tile>,
+}
+
+/// A sparse scalar grid loaded from a VDB file; values are f32 in memory.
+#[derive(Debug, Clone)]
+pub struct FloatGrid {
+    name: String,
+    background: f32,
+    transform: GridTransform,
+    leaf_origins: Vec<IVec3>,
+    leaf_masks: Vec<[u64; 8]>,
+    leaf_values: Vec<f32>,
+    leaf_ranges: Vec<(f32, f32)>,
+    tiles: Vec<Tile>,
+    /// key ijk >> 3: leaf index, or TILE_FLAG | tile index for 8³ tiles.
+    bricks: CoordMap,
+    /// key ijk >> 7: tile index of 128³ tiles.
+    mid_tiles: CoordMap,
+    /// key ijk >> 12: tile index of 4096³ tiles.
+    root_tiles: CoordMap,
+    active_voxel_count: u64,
+    value_range: (f32, f32),
+    bbox: Option<(IVec3, IVec3)>,
+}
+
+#[inline]
+fn leaf_offset(ijk: IVec3) -> usize {
+    (((ijk.x & 7) << 6) | ((ijk.y & 7) << 3) | (ijk.z & 7)) as usize
+}
+
+/// Lerp as OpenVDB's BoxSampler does it: a + float((b - a) · w).
+#[inline]
+fn lerp(a: f32, b: f32, w: f64) -> f32 {
+    a + ((b - a) as f64 * w) as f32
+}
+
+impl GridBuilder {
+    /// Builds the lookup tables and statistics.
+    pub(crate) fn finish(
+        self,
+        name: &str,
+        background: f32,
+        transform: GridTransform,
+    ) -> FResult<FloatGrid> {
+        let n_leaves = self.leaf_origins.len();
+        let count_of = |log2: u32| self.tiles.iter().filter(|t| t.log2 == log2).count();
+        let mut bricks = CoordMap::with_capacity(n_leaves + count_of(3));
+        let mut mid_tiles = CoordMap::with_capacity(count_of(7));
+        let mut root_tiles = CoordMap::with_capacity(count_of(12));
+        let dup = |o: IVec3| FormatError::Corrupt(format!("two nodes claim the voxels at {o}"));
+        for (i, &o) in self.leaf_origins.iter().enumerate() {
+            if !bricks.insert(o >> 3, i as u32) {
+                return Err(dup(o));
+            }
+        }
+        for (i, t) in self.tiles.iter().enumerate() {
+            let ok = match t.log2 {
+                3 => bricks.insert(t.origin >> 3, TILE_FLAG | i as u32),
+                7 => mid_tiles.insert(t.origin >> 7, i as u32),
+                _ => root_tiles.insert(t.origin >> 12, i as u32),
+            };
+            if !ok {
+                return Err(dup(t.origin));
+            }
+        }
+        let mut grid = FloatGrid {
+            name: name.to_string(),
+            background,
+            transform,
+            leaf_ranges: Vec::with_capacity(n_leaves),
+            leaf_origins: self.leaf_origins,
+            leaf_masks: self.leaf_masks,
+            leaf_values: self.leaf_values,
+            tiles: self.tiles,
+            bricks,
+            mid_tiles,
+            root_tiles,
+            active_voxel_count: 0,
+            value_range: (background, background),
+            bbox: None,
+        };
+        grid.compute_statistics();
+        Ok(grid)
+    }
+}
+
+impl FloatGrid {
+    fn compute_statistics(&mut self) {
+        let mut count = 0u64;
+        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        let (mut bmin, mut bmax) = (IVec3::MAX, IVec3::MIN);
+        for (leaf, (&origin, mask)) in self.leaf_origins.iter().zip(&self.leaf_masks).enumerate() {
+            let values = &self.leaf_values[leaf * LEAF_VOXELS..(leaf + 1) * LEAF_VOXELS];
+            let range = values
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
+            self.leaf_ranges.push(range);
+            for (w, &word) in mask.iter().enumerate() {
+                let mut bits = word;
+                while bits != 0 {
+                    let n = w * 64 + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let v = values[n];
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                    let ijk =
+                        origin + IVec3::new((n >> 6) as i32, ((n >> 3) & 7) as i32, (n & 7) as i32);
+                    bmin = bmin.min(ijk);
+                    bmax = bmax.max(ijk);
+                    count += 1;
+                }
+            }
+        }
+        for t in self.tiles.iter().filter(|t| t.active) {
+            count += 1u64 << (3 * t.log2);
+            lo = lo.min(t.value);
+            hi = hi.max(t.value);
+            bmin = bmin.min(t.origin);
+            bmax = bmax.max(t.origin + IVec3::splat((1 << t.log2) - 1));
+        }
+        self.active_voxel_count = count;
+        if count > 0 {
+            self.value_range = (lo, hi);
+            self.bbox = Some((bmin, bmax));
+        }
+    }
+
+    /// The grid's name in the file.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The value of voxels outside every leaf and tile (0 for fog volumes).
+    pub fn background(&self) -> f32 {
+        self.background
+    }
+
+    /// The index↔world transform.
+    pub fn transform(&self) -> &GridTransform {
+        &self.transform
+    }
+
+    /// Active voxels, counting every voxel of an active tile.
+    pub fn active_voxel_count(&self) -> u64 {
+        self.active_voxel_count
+    }
+
+    /// Inclusive index bounds of the active voxels, `None` if there are none.
+    pub fn index_bbox_active(&self) -> Option<(IVec3, IVec3)> {
+        self.bbox
+    }
+
+    /// Smallest and largest active value (the background twice if nothing is active).
+    pub fn value_range(&self) -> (f32, f32) {
+        self.value_range
+    }
+
+    /// Sum of the active values, each tile counted as value × its voxel count.
+    pub fn sum_active_values(&self) -> f64 {
+        let mut sum = 0.0f64;
+        for (leaf, mask) in self.leaf_masks.iter().enumerate() {
+            let values = &self.leaf_values[leaf * LEAF_VOXELS..(leaf + 1) * LEAF_VOXELS];
+            for (n, &v) in values.iter().enumerate() {
+                if mask[n >> 6] >> (n & 63) & 1 == 1 {
+                    sum += v as f64;
+                }
+            }
+        }
+        for t in self.tiles.iter().filter(|t| t.active) {
+            sum += t.value as f64 * (1u64 << (3 * t.log2)) as f64;
+        }
+        sum
+    }
+
+    /// Number of 8³ leaf bricks.
+    pub fn leaf_count(&self) -> usize {
+        self.leaf_origins.len()
+    }
+
+    /// Number of active tiles (any size).
+    pub fn active_tile_count(&self) -> usize {
+        self.tiles.iter().filter(|t| t.active).count()
+    }
+
+    /// Bytes of memory the grid holds.
+    pub fn memory_bytes(&self) -> usize {
+        std::mem::size_of::<Self>()
+            + self.name.capacity()
+            + self.leaf_origins.capacity() * std::mem::size_of::<IVec3>()
+            + self.leaf_masks.capacity() * 64
+            + self.leaf_values.capacity() * 4
+            + self.leaf_ranges.capacity() * 8
+            + self.tiles.capacity() * std::mem::size_of::<Tile>()
+            + self.bricks.memory_bytes()
+            + self.mid_tiles.memory_bytes()
+            + self.root_tiles.memory_bytes()
+    }
+
+    /// Every leaf brick and every tile a lookup can return, with its value range.
+    pub fn blocks(&self) -> impl Iterator<Item = Block> + '_ {
+        let leaves = self
+            .leaf_origins
+            .iter()
+            .zip(&self.leaf_ranges)
+            .map(|(&min, &(lo, hi))| Block {
+                min,
+                size: 8,
+                min_value: lo,
+                max_value: hi,
+            });
+        let tiles = self.tiles.iter().map(|t| Block {
+            min: t.origin,
+            size: 1 << t.log2,
+            min_value: t.value,
+            max_value: t.value,
+        });
+        leaves.chain(tiles)
+    }
+
+    /// The stored value at a voxel, active or not, as OpenVDB's `getValue`:
+    /// leaf value, else tile value, else the background.
+    #[inline]
+    pub fn value(&self, ijk: IVec3) -> f32 {
+        match self.bricks.get(ijk >> 3) {
+            Some(e) if e & TILE_FLAG == 0 => {
+                self.leaf_values[e as usize * LEAF_VOXELS + leaf_offset(ijk)]
+            }
+            Some(e) => self.tiles[(e & !TILE_FLAG) as usize].value,
+            None => self.coarse_value(ijk),
+        }
+    }
+
+    /// Whether a voxel is active (in a leaf's active mask or an active tile).
+    pub fn is_active(&self, ijk: IVec3) -> bool {
+        match self.bricks.get(ijk >> 3) {
+            Some(e) if e & TILE_FLAG == 0 => {
+                let n = leaf_offset(ijk);
+                self.leaf_masks[e as usize][n >> 6] >> (n & 63) & 1 == 1
+            }
+            Some(e) => self.tiles[(e & !TILE_FLAG) as usize].active,
+            None => self
+                .mid_tiles
+                .get(ijk >> 7)
+                .or_else(|| self.root_tiles.get(ijk >> 12))
+                .is_some_and(|t| self.tiles[t as usize].active),
+        }
+    }
+
+    #[inline]
+    fn coarse_value(&self, ijk: IVec3) -> f32 {
+        if let Some(t) = self.mid_tiles.get(ijk >> 7) {
+            return self.tiles[t as usize].value;
+        }
+        if let Some(t) = self.root_tiles.get(ijk >> 12) {
+            return self.tiles[t as usize].value;
+        }
+        self.background
+    }
+
+    /// Trilinear interpolation at an index-space point (voxel centres at
+    /// integer ijk), as OpenVDB's BoxSampler.
+    #[inline]
+    pub fn trilinear_index(&self, p: Vec3) -> f32 {
+        self.trilinear_index_f64(p.as_dvec3())
+    }
+
+    /// Trilinear interpolation at a world-space point.
+    pub fn trilinear_world(&self, p: DVec3) -> f32 {
+        self.trilinear_index_f64(self.transform.world_to_index(p))
+    }
+
+    /// Trilinear interpolation at an index-space point given in f64.
+    pub fn trilinear_index_f64(&self, p: DVec3) -> f32 {
+        // far outside any tree (|ijk| < 2^31); keeps the corner arithmetic from overflowing
+        let p = p.clamp(DVec3::splat(-1.0e9), DVec3::splat(1.0e9));
+        let f = p.floor();
+        let i = f.as_ivec3();
+        let w = p - f;
+        // the eight corners span at most 2×2×2 bricks: one table lookup per brick
+        let b: IVec3 = i >> 3i32;
+        let span = IVec3::select((i & 7).cmpeq(IVec3::splat(7)), IVec3::splat(2), IVec3::ONE);
+        let mut entries = [[[None; 2]; 2]; 2];
+        for (bx, ex) in entries.iter_mut().enumerate().take(span.x as usize) {
+            for (by, ey) in ex.iter_mut().enumerate().take(span.y as usize) {
+                for (bz, ez) in ey.iter_mut().enumerate().take(span.z as usize) {
+                    *ez = self
+                        .bricks
+                        .get(b + IVec3::new(bx as i32, by as i32, bz as i32));
+                }
+            }
+        }
+        let mut v = [[[0.0f32; 2]; 2]; 2];
+        for (dx, vx) in v.iter_mut().enumerate() {
+            for (dy, vy) in vx.iter_mut().enumerate() {
+                for (dz, vz) in vy.iter_mut().enumerate() {
+                    let c = i + IVec3::new(dx as i32, dy as i32, dz as i32);
+                    let s = ((c >> 3i32) - b).as_uvec3();
+                    *vz = match entries[s.x as usize][s.y as usize][s.z as usize] {
+                        Some(e) if e & TILE_FLAG == 0 => {
+                            self.leaf_values[e as usize * LEAF_VOXELS + leaf_offset(c)]
+                        }
+                        Some(e) => self.tiles[(e & !TILE_FLAG) as usize].value,
+                        None => self.coarse_value(c),
+                    };
+                }
+            }
+        }
+        let yz = |vx: &[[f32; 2]; 2]| {
+            lerp(
+                lerp(vx[0][0], vx[0][1], w.z),
+                lerp(vx[1][0], vx[1][1], w.z),
+                w.y,
+            )
+        };
+        lerp(yz(&v[0]), yz(&v[1]), w.x)
+    }
+
+    /// The nearest voxel's value at an index-space point (OpenVDB PointSampler: floor(p + 0.5)).
+    pub fn nearest_index(&self, p: DVec3) -> f32 {
+        self.value((p + DVec3::splat(0.5)).floor().as_ivec3())
+    }
+}
