@@ -23,6 +23,9 @@ pub enum Error {
         /// Why it cannot be used.
         message: String,
     },
+    /// An OpenVDB file or grid cannot be used.
+    #[error(transparent)]
+    Volume(#[from] crate::volume::VolumeError),
     /// A command-line value is invalid.
     #[error("invalid argument {argument}: {message}")]
     Argument {

@@ -3,18 +3,19 @@
 //! Fog, smoke, clouds and airlight, lit and shadowed together with ordinary
 //! surfaces by one unbiased Monte Carlo radiance estimator.
 //!
-//! Modules are listed in dependency order: each uses only those above it.
+//! The module layout and its dependency order are described in DESIGN.md
+//! (shared with the team) and summarized in README.md.
 
-pub mod math;
-pub mod color;
-pub mod sampling;
 pub mod camera;
-pub mod geometry;
-pub mod material;
-pub mod light;
-pub mod volume;
-pub mod integrator;
-pub mod scene;
-pub mod render;
-pub mod image_io;
+pub mod color;
 pub mod error;
+pub mod geometry;
+pub mod image_io;
+pub mod integrator;
+pub mod light;
+pub mod material;
+pub mod math;
+pub mod render;
+pub mod sampling;
+pub mod scene;
+pub mod volume;

@@ -22,6 +22,17 @@ struct Cli {
 enum Command {
     /// Render a scene file to EXR (linear) and PNG (sRGB preview).
     Render(RenderArgs),
+    /// Describe the grids of an OpenVDB file: types, transform, voxel counts, bounds, values, memory.
+    Info(InfoArgs),
+}
+
+#[derive(clap::Args)]
+struct InfoArgs {
+    /// The .vdb file.
+    file: PathBuf,
+    /// Machine-readable JSON instead of text.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(clap::Args)]
@@ -61,11 +72,21 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => run_render(args),
+        Command::Info(args) => run_info(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");
         std::process::exit(e.exit_code());
     }
+}
+
+fn run_info(args: InfoArgs) -> Result<()> {
+    let report = brume::volume::info_report(&args.file, args.json)?;
+    print!("{report}");
+    if !report.ends_with('\n') {
+        println!();
+    }
+    Ok(())
 }
 
 fn argument(name: &str, message: &str) -> Error {
