@@ -5,4 +5,5 @@
 
 pub mod color;
 pub mod math;
+pub mod medium;
 pub mod sampling;
