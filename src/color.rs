@@ -168,7 +168,10 @@ mod tests {
         assert_eq!(a * 2.0, Rgb::new(2.0, 4.0, 8.0));
         assert_eq!(a / a, Rgb::WHITE);
         assert_eq!(a.max_channel(), 4.0);
-        assert_eq!(Rgb::new(1.0, 0.0, 2.0).safe_div(Rgb::new(2.0, 0.0, 4.0)).g, 0.0);
+        assert_eq!(
+            Rgb::new(1.0, 0.0, 2.0).safe_div(Rgb::new(2.0, 0.0, 4.0)).g,
+            0.0
+        );
         assert!((Rgb::WHITE.luminance() - 1.0).abs() < 1e-6);
     }
 
