@@ -95,3 +95,24 @@ fn missing_samples_and_impossible_samples_are_caught() {
     let outside = test.run(Some, |x| if x < 0.5 { 2.0 } else { 0.0 });
     assert_eq!(outside.p_value, 0.0);
 }
+
+#[test]
+fn p_values_of_a_correct_sampler_are_uniform() {
+    // Under the null hypothesis p ~ U(0, 1): a miscounted dof or a biased statistic
+    // would shift the mean or pile p-values up near 0.
+    let runs = 200;
+    let p: Vec<f64> = (0..runs)
+        .map(|seed| {
+            let test = IntervalChi2::new(0.0, 1.0, 4_000, 1_000 + seed);
+            test.run(|u| Some(u.sqrt()), |x| 2.0 * x).p_value
+        })
+        .collect();
+    let mean = p.iter().sum::<f64>() / runs as f64;
+    // σ of a mean of U(0,1) is √(1/12)/√runs ≈ 0.020; of a 10% fraction √(0.09/runs) ≈ 0.021.
+    assert!((mean - 0.5).abs() < 4.0 * 0.0205, "mean p = {mean}");
+    let low = p.iter().filter(|&&x| x < 0.1).count() as f64 / runs as f64;
+    assert!(
+        (low - 0.1).abs() < 4.0 * 0.0213,
+        "fraction below 0.1 = {low}"
+    );
+}
