@@ -82,6 +82,9 @@ impl PhaseFunction {
     }
 
     /// Draws an outgoing propagation direction for incoming `dir_in` from uniform `u` in [0, 1)².
+    ///
+    /// `u.x` picks cos θ (and, for double HG, first the lobe), `u.y` the azimuth.
+    /// `None` only for parameters that fail `validate`.
     pub fn sample(&self, dir_in: Vec3, u: Vec2) -> Option<PhaseSample> {
         let (one_minus_cos, one_plus_cos) = match *self {
             PhaseFunction::Isotropic => henyey_greenstein_cos(0.0, u.x),
