@@ -14,6 +14,7 @@ pub mod image_io;
 pub mod integrator;
 pub mod light;
 pub mod material;
+pub mod medium;
 pub mod math;
 pub mod render;
 pub mod sampling;

@@ -5,6 +5,9 @@
 //! three, and the dimension is the position in that stream. Renders are
 //! therefore identical whatever the thread count or tile order.
 
+pub mod chi2;
+pub mod equiangular;
+pub mod quadrature;
 pub mod warp;
 
 use rand::RngCore;

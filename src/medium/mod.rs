@@ -1,0 +1,3 @@
+//! Participating media: phase functions (and, later, media).
+
+pub mod phase;

@@ -1,0 +1,118 @@
+use super::*;
+use crate::sampling::warp;
+
+#[test]
+fn ln_gamma_matches_factorials_and_sqrt_pi() {
+    assert!((ln_gamma(0.5) - 0.5 * PI.ln()).abs() < 1e-13);
+    let mut factorial = 1.0f64;
+    for n in 1..30 {
+        // Γ(n) = (n − 1)!
+        assert!((ln_gamma(n as f64) - factorial.ln()).abs() < 1e-12 * (1.0 + factorial.ln()));
+        factorial *= n as f64;
+    }
+}
+
+#[test]
+fn incomplete_gamma_matches_closed_forms_on_both_branches() {
+    for x in [0.01f64, 0.3, 1.0, 2.5, 4.0, 9.0, 30.0] {
+        // Q(1, x) = e^−x and Q(3, x) = e^−x (1 + x + x²/2).
+        let q1 = f64::exp(-x);
+        assert!((regularized_gamma_q(1.0, x) - q1).abs() < 1e-13, "x = {x}");
+        let q3 = q1 * (1.0 + x + 0.5 * x * x);
+        assert!((regularized_gamma_q(3.0, x) - q3).abs() < 1e-13, "x = {x}");
+    }
+    // Q(1/2, x) = erfc(√x); erfc(1) = 0.157299207050285.
+    assert!((regularized_gamma_q(0.5, 1.0) - 0.157_299_207_050_285).abs() < 1e-13);
+}
+
+#[test]
+fn chi2_survival_matches_tables() {
+    // (dof, quantile, upper-tail probability) from standard chi-square tables.
+    let table = [
+        (1, 3.841_459, 0.05),
+        (1, 6.634_897, 0.01),
+        (2, 5.991_465, 0.05),
+        (5, 1.145_476, 0.95),
+        (10, 18.307_038, 0.05),
+        (10, 23.209_251, 0.01),
+        (100, 124.342_113, 0.05),
+    ];
+    for (dof, x, p) in table {
+        let got = chi2_survival(x, dof);
+        assert!((got - p).abs() < 2e-6, "dof {dof}, x {x}: {got} vs {p}");
+    }
+}
+
+#[test]
+fn sidak_level_is_below_alpha_and_exact_for_one_test() {
+    assert!((sidak_alpha(0.01, 1) - 0.01).abs() < 1e-15);
+    let a = sidak_alpha(0.01, 20);
+    assert!(a < 0.01 / 19.0 && a > 0.01 / 21.0);
+}
+
+#[test]
+fn sphere_harness_accepts_the_right_pdf() {
+    let result = SphereChi2::new(50_000, 5).run(
+        |u| Some(warp::square_to_cosine_hemisphere(u)),
+        warp::cosine_hemisphere_pdf,
+    );
+    assert!(result.passes(0.01, 1), "{result}");
+    // The 100 upper-hemisphere cells count; the lower ones expect (and get) nothing.
+    assert_eq!(result.dof, 99, "{result}");
+}
+
+#[test]
+fn sphere_harness_rejects_a_wrong_pdf() {
+    // Cosine-weighted samples tested against the uniform-hemisphere density 1/(2π).
+    let uniform_hemisphere = |d: Vec3| if d.z >= 0.0 { 0.5 / PI as f32 } else { 0.0 };
+    let result = SphereChi2::new(50_000, 5).run(
+        |u| Some(warp::square_to_cosine_hemisphere(u)),
+        uniform_hemisphere,
+    );
+    assert!(result.p_value < 1e-12, "{result}");
+    assert!(!result.passes(0.01, 1));
+}
+
+#[test]
+fn interval_harness_accepts_right_and_rejects_wrong_pdf() {
+    // x = √u has density 2x on [0, 1].
+    let test = IntervalChi2::new(0.0, 1.0, 50_000, 9);
+    let right = test.run(|u| Some(u.sqrt()), |x| 2.0 * x);
+    assert!(right.passes(0.01, 1), "{right}");
+    let wrong = test.run(|u| Some(u.sqrt()), |x| 1.9 * x + 0.05);
+    assert!(wrong.p_value < 1e-6, "{wrong}");
+}
+
+#[test]
+fn missing_samples_and_impossible_samples_are_caught() {
+    let test = IntervalChi2::new(0.0, 1.0, 20_000, 3);
+    // A sampler that gives up a tenth of the time has a deficient density.
+    let lossy = test.run(|u| (u < 0.9).then_some(u / 0.9), |_| 1.0);
+    // About 2000 expected, with a binomial σ of about 42.
+    assert!((1_800..2_200).contains(&lossy.invalid_count), "{lossy}");
+    assert!(lossy.p_value < 1e-6, "{lossy}");
+    // Samples where the pdf vanishes reject outright.
+    let outside = test.run(Some, |x| if x < 0.5 { 2.0 } else { 0.0 });
+    assert_eq!(outside.p_value, 0.0);
+}
+
+#[test]
+fn p_values_of_a_correct_sampler_are_uniform() {
+    // Under the null hypothesis p ~ U(0, 1): a miscounted dof or a biased statistic
+    // would shift the mean or pile p-values up near 0.
+    let runs = 200;
+    let p: Vec<f64> = (0..runs)
+        .map(|seed| {
+            let test = IntervalChi2::new(0.0, 1.0, 4_000, 1_000 + seed);
+            test.run(|u| Some(u.sqrt()), |x| 2.0 * x).p_value
+        })
+        .collect();
+    let mean = p.iter().sum::<f64>() / runs as f64;
+    // σ of a mean of U(0,1) is √(1/12)/√runs ≈ 0.020; of a 10% fraction √(0.09/runs) ≈ 0.021.
+    assert!((mean - 0.5).abs() < 4.0 * 0.0205, "mean p = {mean}");
+    let low = p.iter().filter(|&&x| x < 0.1).count() as f64 / runs as f64;
+    assert!(
+        (low - 0.1).abs() < 4.0 * 0.0213,
+        "fraction below 0.1 = {low}"
+    );
+}

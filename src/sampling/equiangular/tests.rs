@@ -1,0 +1,100 @@
+use super::*;
+use crate::sampling::chi2::IntervalChi2;
+use crate::sampling::quadrature::gauss_legendre;
+use crate::sampling::Sampler;
+
+/// (name, light position) along the ray from the origin along +x over t in [1, 5].
+const CONFIGS: [(&str, Vec3); 7] = [
+    ("beside", Vec3::new(3.0, 1.0, 0.0)),
+    ("beside, close", Vec3::new(2.0, 0.0, 0.02)),
+    ("ahead", Vec3::new(9.0, 0.5, -0.3)),
+    ("behind", Vec3::new(-2.0, 0.3, 0.4)),
+    ("near the start", Vec3::new(1.0, 0.1, 0.0)),
+    ("on the line, ahead", Vec3::new(8.0, 0.0, 0.0)),
+    ("on the line, behind", Vec3::new(-1.0, 0.0, 0.0)),
+];
+const T_MIN: f32 = 1.0;
+const T_MAX: f32 = 5.0;
+
+fn pdf(light: Vec3, t: f32) -> f32 {
+    equiangular_pdf(Vec3::ZERO, Vec3::X, light, T_MIN, T_MAX, t)
+}
+
+#[test]
+fn pdf_integrates_to_one() {
+    for (name, light) in CONFIGS {
+        let f = |t: f64| pdf(light, t as f32) as f64;
+        let coarse = gauss_legendre(f, T_MIN as f64, T_MAX as f64, 1024);
+        let fine = gauss_legendre(f, T_MIN as f64, T_MAX as f64, 2048);
+        // Panel halving changes a converged 8-point rule by far less than its own error; the
+        // difference bounds the quadrature error, and f32 evaluation of the pdf limits both to ~1e-6.
+        assert!((coarse - fine).abs() < 1e-5, "{name}: {coarse} vs {fine}");
+        assert!((fine - 1.0).abs() < 1e-4, "{name}: ∫ pdf = {fine}");
+    }
+}
+
+#[test]
+fn samples_lie_in_the_interval_with_consistent_pdf() {
+    let mut rng = Sampler::from_seed(21);
+    for (name, light) in CONFIGS {
+        for i in 0..2_000 {
+            // The ends of [0, 1) are included deliberately.
+            let u = if i == 0 { 0.0 } else { rng.next_1d() };
+            let s = sample_equiangular(Vec3::ZERO, Vec3::X, light, T_MIN, T_MAX, u)
+                .unwrap_or_else(|| panic!("{name}: no sample for u = {u}"));
+            assert!(
+                (T_MIN..=T_MAX).contains(&s.value),
+                "{name}: t = {}",
+                s.value
+            );
+            assert_eq!(s.pdf, pdf(light, s.value), "{name}");
+            assert!((s.weight * s.pdf - 1.0).abs() < 1e-6, "{name}");
+        }
+    }
+}
+
+#[test]
+fn samples_pass_chi_square() {
+    // One test per configuration, Šidák-corrected as a family.
+    for (k, (name, light)) in CONFIGS.into_iter().enumerate() {
+        let test = IntervalChi2::new(T_MIN, T_MAX, 40_000, 100 + k as u64);
+        let result = test.run(
+            |u| sample_equiangular(Vec3::ZERO, Vec3::X, light, T_MIN, T_MAX, u).map(|s| s.value),
+            |t| pdf(light, t),
+        );
+        assert!(result.passes(0.01, CONFIGS.len()), "{name}: {result}");
+    }
+}
+
+#[test]
+fn light_on_the_segment_has_no_density() {
+    let light = Vec3::new(3.0, 0.0, 0.0);
+    assert!(sample_equiangular(Vec3::ZERO, Vec3::X, light, T_MIN, T_MAX, 0.5).is_none());
+    assert_eq!(pdf(light, 3.0), 0.0);
+    assert_eq!(pdf(light, 2.0), 0.0);
+}
+
+#[test]
+fn nearly_on_the_line_matches_the_on_line_limit() {
+    // Either side of the threshold the densities agree: the fallback is the limit, not a jump.
+    let on = Vec3::new(8.0, 0.0, 0.0);
+    let near = Vec3::new(8.0, 1e-3, 0.0);
+    for t in [1.0, 2.5, 4.9] {
+        let (a, b) = (pdf(on, t), pdf(near, t));
+        assert!((a - b).abs() < 1e-5 * a, "t = {t}: {a} vs {b}");
+    }
+}
+
+#[test]
+fn bad_intervals_are_refused() {
+    let light = Vec3::new(3.0, 1.0, 0.0);
+    for (a, b) in [
+        (2.0, 2.0),
+        (3.0, 1.0),
+        (0.0, f32::INFINITY),
+        (f32::NAN, 1.0),
+    ] {
+        assert!(sample_equiangular(Vec3::ZERO, Vec3::X, light, a, b, 0.5).is_none());
+        assert_eq!(equiangular_pdf(Vec3::ZERO, Vec3::X, light, a, b, 1.0), 0.0);
+    }
+}

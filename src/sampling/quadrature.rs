@@ -1,0 +1,118 @@
+//! Deterministic 1D quadrature in f64, for normalization checks and chi-square bins.
+
+/// Nodes and weights of the `n`-point Gauss–Legendre rule on [−1, 1].
+pub fn gauss_legendre_rule(n: usize) -> Vec<(f64, f64)> {
+    (0..n)
+        .map(|i| {
+            // Newton's method on P_n from the classical cosine guess converges in a few steps.
+            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            let mut derivative = 1.0;
+            for _ in 0..100 {
+                let (p_n, p_prev) = legendre(n, x);
+                derivative = n as f64 * (x * p_n - p_prev) / (x * x - 1.0);
+                let step = p_n / derivative;
+                x -= step;
+                if step.abs() < 1e-16 {
+                    break;
+                }
+            }
+            (x, 2.0 / ((1.0 - x * x) * derivative * derivative))
+        })
+        .collect()
+}
+
+/// `(P_n(x), P_{n−1}(x))` by the three-term recurrence.
+fn legendre(n: usize, x: f64) -> (f64, f64) {
+    let (mut p_prev, mut p) = (1.0, x);
+    for k in 2..=n {
+        let k = k as f64;
+        let next = ((2.0 * k - 1.0) * x * p - (k - 1.0) * p_prev) / k;
+        p_prev = p;
+        p = next;
+    }
+    (p, p_prev)
+}
+
+/// Composite 8-point Gauss–Legendre quadrature of `f` over [a, b] with `panels` equal panels.
+///
+/// Exact for polynomials of degree 15 on each panel; for smooth integrands the
+/// error falls like `panels^−16`, so doubling `panels` and comparing is a sharp
+/// error estimate.
+pub fn gauss_legendre(f: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize) -> f64 {
+    let rule = gauss_legendre_rule(8);
+    let h = (b - a) / panels as f64;
+    (0..panels)
+        .map(|k| {
+            let mid = a + (k as f64 + 0.5) * h;
+            rule.iter()
+                .map(|&(x, w)| w * f(mid + 0.5 * h * x))
+                .sum::<f64>()
+                * 0.5
+                * h
+        })
+        .sum()
+}
+
+/// Adaptive Simpson quadrature of `f` over [a, b] to absolute tolerance `tol`.
+///
+/// Always subdivides to at least 2^4 intervals so that a narrow peak between
+/// the first few nodes is not mistaken for a flat function. A piece also stops
+/// once its error estimate is below 1e-7 of its value: integrands evaluated in
+/// f32 carry that much noise, and chasing a tighter absolute tolerance through
+/// noise would subdivide to the depth limit everywhere.
+pub fn adaptive_simpson(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    let m = 0.5 * (a + b);
+    let (fa, fm, fb) = (f(a), f(m), f(b));
+    let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
+    simpson_step(f, [a, m, b], [fa, fm, fb], whole, tol, 0)
+}
+
+const MIN_DEPTH: u32 = 4;
+const MAX_DEPTH: u32 = 24;
+const RELATIVE_FLOOR: f64 = 1e-7;
+
+fn simpson_step(
+    f: &dyn Fn(f64) -> f64,
+    [a, m, b]: [f64; 3],
+    [fa, fm, fb]: [f64; 3],
+    whole: f64,
+    tol: f64,
+    depth: u32,
+) -> f64 {
+    let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
+    let (flm, frm) = (f(lm), f(rm));
+    let left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
+    let right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
+    let delta = left + right - whole;
+    // Richardson: the error of the refined estimate is about delta / 15.
+    let converged = delta.abs() <= 15.0 * tol.max(RELATIVE_FLOOR * (left + right).abs());
+    if depth >= MAX_DEPTH || (depth >= MIN_DEPTH && converged) {
+        return left + right + delta / 15.0;
+    }
+    simpson_step(f, [a, lm, m], [fa, flm, fm], left, 0.5 * tol, depth + 1)
+        + simpson_step(f, [m, rm, b], [fm, frm, fb], right, 0.5 * tol, depth + 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gauss_legendre_weights_and_exactness() {
+        let rule = gauss_legendre_rule(8);
+        assert!((rule.iter().map(|r| r.1).sum::<f64>() - 2.0).abs() < 1e-14);
+        // Degree 15 is integrated exactly by one 8-point panel: ∫_0^1 x^15 = 1/16.
+        let one_panel = gauss_legendre(|x| x.powi(15), 0.0, 1.0, 1);
+        assert!((one_panel - 1.0 / 16.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn adaptive_simpson_handles_peaks_and_jumps() {
+        let peak = |x: f64| 1e-3 / (std::f64::consts::PI * (1e-6 + (x - 0.3) * (x - 0.3)));
+        // ∫ of the Cauchy density over [0, 1] = (atan(0.7/1e-3) + atan(0.3/1e-3)) / π.
+        let exact = ((0.7f64 / 1e-3).atan() + (0.3f64 / 1e-3).atan()) / std::f64::consts::PI;
+        assert!((adaptive_simpson(&peak, 0.0, 1.0, 1e-10) - exact).abs() < 1e-7);
+        let step = |x: f64| if x < 0.123 { 1.0 } else { 0.0 };
+        assert!((adaptive_simpson(&step, 0.0, 1.0, 1e-10) - 0.123).abs() < 1e-7);
+    }
+}
