@@ -1,17 +1,25 @@
 //! The radiance estimator `li` and the runtime `Scene` it reads.
 //!
-//! One loop handles every vertex of a path: surface vertices (BSDF sampling
-//! and next-event estimation combined by MIS) and, where media are present,
-//! medium vertices. Helpers keep the loop short: `direct_light` for NEE,
-//! `escaped` for rays leaving the scene.
+//! One loop handles every vertex of a path. Along each ray segment the
+//! media are tracked first (free-flight sampling); a real scattering event
+//! makes a medium vertex, otherwise the ray reaches a surface (or escapes).
+//! Both kinds of vertex do next-event estimation with transmittance-weighted
+//! shadow rays, combined by MIS with phase/BSDF sampling.
+
+mod direct;
+pub mod tracking;
 
 use crate::camera::Camera;
 use crate::color::Rgb;
-use crate::geometry::{Geometry, SurfaceHit};
+use crate::geometry::Geometry;
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::{offset_origin, Ray, Vec3};
+use crate::medium::Medium;
 use crate::sampling::{power_heuristic, Sampler};
+use direct::{direct_light, Vertex};
+pub use tracking::TransmittanceEstimator;
+use tracking::{sample_free_flight, FreeFlight};
 
 /// Sampling settings of a render.
 #[derive(Clone, Copy, Debug)]
@@ -26,6 +34,8 @@ pub struct Settings {
     pub rr_depth: u32,
     /// Scene seed of the random streams.
     pub seed: u64,
+    /// Transmittance estimator for shadow rays.
+    pub transmittance: TransmittanceEstimator,
 }
 
 /// Everything the estimator needs, built by `scene::load`.
@@ -40,6 +50,8 @@ pub struct Scene {
     pub shape_lights: Vec<Option<u32>>,
     /// All lights.
     pub lights: Vec<Light>,
+    /// All participating media (they overlap additively).
+    pub media: Vec<Medium>,
     /// Sampling settings.
     pub settings: Settings,
 }
@@ -68,16 +80,24 @@ impl Scene {
         }
         total
     }
-}
 
-/// Where next-event estimation looks from, and how the vertex scatters light.
-enum Vertex<'a> {
-    Surface {
-        hit: &'a SurfaceHit,
-        normal: Vec3,
-        wo: Vec3,
-        material: &'a Material,
-    },
+    /// Transmittance along `ray` over `[0, t_max)` through every medium (1 with no media).
+    pub fn transmittance(&self, ray: &Ray, t_max: f32, sampler: &mut Sampler) -> Rgb {
+        let mut tr = Rgb::WHITE;
+        for medium in &self.media {
+            tr *= tracking::medium_transmittance(
+                medium,
+                ray,
+                t_max,
+                self.settings.transmittance,
+                sampler,
+            );
+            if tr.is_black() {
+                break;
+            }
+        }
+        tr
+    }
 }
 
 /// State of one path being traced.
@@ -88,6 +108,7 @@ struct PathState {
     prev_pdf: f32,
     /// True when that direction came from a delta lobe (or the camera).
     prev_delta: bool,
+    /// Where the current ray started (for area-light MIS).
     prev_point: Vec3,
 }
 
@@ -102,8 +123,57 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         prev_point: ray.origin,
     };
     let mut depth = 0u32;
+    let mut scatter_depth = 0u32;
     loop {
-        let Some(hit) = scene.geometry.intersect(&ray, f32::INFINITY) else {
+        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+        let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
+        if !scene.media.is_empty() {
+            let event = sample_free_flight(
+                &scene.media,
+                &ray,
+                t_surface,
+                &mut path.throughput,
+                &mut path.radiance,
+                sampler,
+            );
+            match event {
+                FreeFlight::Absorbed => break,
+                FreeFlight::Passed => {}
+                FreeFlight::Scatter { t, properties, .. } => {
+                    if depth >= settings.max_depth {
+                        break;
+                    }
+                    let p = ray.at(t);
+                    scatter_depth += 1;
+                    let last_vertex = depth + 1 >= settings.max_depth
+                        || scatter_depth >= settings.max_scatter_depth;
+                    let vertex = Vertex::Medium {
+                        p,
+                        dir_in: ray.direction,
+                        phase: &properties.phase,
+                    };
+                    path.radiance +=
+                        path.throughput * direct_light(scene, &vertex, sampler, last_vertex);
+                    if last_vertex {
+                        break;
+                    }
+                    let Some(ps) = properties.phase.sample(ray.direction, sampler.next_2d()) else {
+                        break;
+                    };
+                    path.throughput *= ps.weight;
+                    path.prev_pdf = ps.pdf;
+                    path.prev_delta = false;
+                    path.prev_point = p;
+                    ray = Ray::new(p, ps.direction);
+                    depth += 1;
+                    if !russian_roulette(&mut path.throughput, depth, settings.rr_depth, sampler) {
+                        break;
+                    }
+                    continue;
+                }
+            }
+        }
+        let Some(hit) = hit else {
             path.radiance +=
                 path.throughput * scene.escaped(ray.direction, path.prev_pdf, path.prev_delta);
             break;
@@ -133,13 +203,13 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
             -hit.shading_normal
         };
         let last_vertex = depth + 1 >= settings.max_depth;
-        let vertex = Vertex::Surface {
-            hit: &hit,
-            normal,
-            wo,
-            material,
-        };
         if !material.is_delta() {
+            let vertex = Vertex::Surface {
+                hit: &hit,
+                normal,
+                wo,
+                material,
+            };
             path.radiance += path.throughput * direct_light(scene, &vertex, sampler, last_vertex);
         }
         if last_vertex {
@@ -177,47 +247,4 @@ fn russian_roulette(
     }
     *throughput /= q;
     true
-}
-
-/// Next-event estimation from a vertex to one light chosen uniformly.
-///
-/// With `full_weight` the sample is not MIS-weighted (no BSDF strategy follows it).
-fn direct_light(scene: &Scene, vertex: &Vertex, sampler: &mut Sampler, full_weight: bool) -> Rgb {
-    if scene.lights.is_empty() {
-        return Rgb::BLACK;
-    }
-    let pick = sampler.next_1d();
-    let u = sampler.next_2d();
-    let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
-    let light = &scene.lights[index];
-    let Vertex::Surface {
-        hit,
-        normal,
-        wo,
-        material,
-    } = vertex;
-    let Some(ls) = light.sample(hit.p, u, &scene.geometry) else {
-        return Rgb::BLACK;
-    };
-    let f = material.eval(*normal, *wo, ls.wi);
-    if f.is_black() {
-        return Rgb::BLACK;
-    }
-    let origin = offset_origin(hit.p, hit.geometric_normal, ls.wi);
-    let shadow = Ray::new(origin, ls.wi);
-    let t_max = if ls.distance.is_finite() {
-        ls.distance * (1.0 - 1e-4)
-    } else {
-        f32::INFINITY
-    };
-    if scene.geometry.occluded(&shadow, t_max) {
-        return Rgb::BLACK;
-    }
-    let light_pdf = ls.pdf * scene.light_pick_probability();
-    let weight = if ls.is_delta || full_weight {
-        1.0
-    } else {
-        power_heuristic(light_pdf, material.pdf(*normal, *wo, ls.wi))
-    };
-    f * ls.radiance * (weight / light_pdf)
 }

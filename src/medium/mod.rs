@@ -1,3 +1,115 @@
-//! Participating media: phase functions (and, later, media).
+//! Participating media: what a medium is at a point, and its majorants along a ray.
+//!
+//! A medium answers two questions only (DESIGN.md): its coefficients at a
+//! point (`properties`) and majorant segments along a ray (`majorants`),
+//! plus, where one exists, its optical depth in closed form. Transmittance
+//! and free-flight estimators live in `integrator`, written once over
+//! majorant segments.
 
+pub mod homogeneous;
 pub mod phase;
+pub mod region;
+
+pub use homogeneous::HomogeneousMedium;
+pub use phase::{PhaseFunction, PhaseSample};
+pub use region::Region;
+
+use crate::color::Rgb;
+use crate::math::{Ray, Vec3};
+
+/// Coefficients of a medium at one point.
+#[derive(Clone, Copy, Debug)]
+pub struct MediumProperties {
+    /// Absorption coefficient σa (1/m).
+    pub sigma_a: Rgb,
+    /// Scattering coefficient σs (1/m).
+    pub sigma_s: Rgb,
+    /// Emitted radiance Le; the source term is σa·Le.
+    pub emission: Rgb,
+    /// Phase function.
+    pub phase: PhaseFunction,
+}
+
+/// A stretch `[t0, t1)` of a ray with a scalar majorant σ̄(t) = `sigma_maj`·exp(-`decay`·(t - t0)) ≥ max channel of σt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MajorantSegment {
+    /// Start of the segment (ray parameter).
+    pub t0: f32,
+    /// End of the segment.
+    pub t1: f32,
+    /// Majorant at `t0`.
+    pub sigma_maj: f32,
+    /// Exponential decay rate of the majorant along the ray (0 for constant).
+    pub decay: f32,
+    /// A lower bound of σt over the segment (the control extinction of residual ratio tracking; valid when `decay` is 0).
+    pub sigma_control: Rgb,
+}
+
+impl MajorantSegment {
+    /// The majorant at ray parameter `t` inside the segment.
+    #[inline]
+    pub fn majorant_at(&self, t: f32) -> f32 {
+        if self.decay == 0.0 {
+            self.sigma_maj
+        } else {
+            self.sigma_maj * (-self.decay * (t - self.t0)).exp()
+        }
+    }
+}
+
+/// The majorant segments of one medium along one ray, in increasing t.
+#[derive(Clone, Debug)]
+pub enum MajorantIter {
+    /// At most one segment.
+    Single(Option<MajorantSegment>),
+}
+
+impl Iterator for MajorantIter {
+    type Item = MajorantSegment;
+    #[inline]
+    fn next(&mut self) -> Option<MajorantSegment> {
+        match self {
+            MajorantIter::Single(s) => s.take(),
+        }
+    }
+}
+
+/// A participating medium (closed set; large payloads go behind `Arc`).
+#[derive(Clone, Debug)]
+pub enum Medium {
+    /// Constant coefficients inside a region.
+    Homogeneous(HomogeneousMedium),
+}
+
+impl Medium {
+    /// Coefficients at world point `p` (zero outside the medium).
+    #[inline]
+    pub fn properties(&self, p: Vec3) -> MediumProperties {
+        match self {
+            Medium::Homogeneous(m) => m.properties(p),
+        }
+    }
+
+    /// Majorant segments along `ray` within `[0, t_max)`.
+    #[inline]
+    pub fn majorants(&self, ray: &Ray, t_max: f32) -> MajorantIter {
+        match self {
+            Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
+        }
+    }
+
+    /// Optical depth ∫σt ds over `[t0, t1]` along `ray` when it has a closed form.
+    #[inline]
+    pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Option<Rgb> {
+        match self {
+            Medium::Homogeneous(m) => Some(m.optical_depth(ray, t0, t1)),
+        }
+    }
+
+    /// True when the medium emits light.
+    pub fn is_emissive(&self) -> bool {
+        match self {
+            Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
+        }
+    }
+}

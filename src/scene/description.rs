@@ -115,6 +115,13 @@ pub struct IntegratorDesc {
     /// Scene seed of the random streams.
     #[serde(default)]
     pub seed: u64,
+    /// Shadow-ray transmittance estimator: auto, ratio, residual_ratio or delta.
+    #[serde(default = "default_transmittance")]
+    pub transmittance: String,
+}
+
+fn default_transmittance() -> String {
+    "auto".into()
 }
 
 impl Default for IntegratorDesc {
@@ -125,6 +132,7 @@ impl Default for IntegratorDesc {
             max_scatter_depth: None,
             rr_depth: default_rr_depth(),
             seed: 0,
+            transmittance: default_transmittance(),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! that name the file and field, and building the runtime `Scene`.
 
 pub mod description;
+mod media;
 mod shapes;
 mod validate;
 
@@ -9,7 +10,8 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
-use crate::integrator::{Scene, Settings};
+use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
+use crate::integrator::{Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light};
 use crate::material::Material;
 use description::{LightDesc, MaterialDesc, SceneDesc};
@@ -135,6 +137,18 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         max_scatter_depth: integ.max_scatter_depth.unwrap_or(u32::MAX),
         rr_depth: integ.rr_depth,
         seed: integ.seed,
+        transmittance: match integ.transmittance.as_str() {
+            "auto" => TransmittanceEstimator::Auto,
+            "ratio" => TransmittanceEstimator::Ratio,
+            "residual_ratio" => TransmittanceEstimator::ResidualRatio,
+            "delta" => TransmittanceEstimator::Delta,
+            other => return Err(check.error(
+                "integrator.transmittance",
+                format!(
+                    "unknown estimator `{other}`, expected auto, ratio, residual_ratio or delta"
+                ),
+            )),
+        },
     };
 
     let mut items = Vec::new();
@@ -173,12 +187,21 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         lights.push(built);
     }
 
-    if !desc.media.is_empty() {
+    if desc.media.len() > MAX_OVERLAPPING_MEDIA {
         return Err(check.error(
-            "medium[0]",
-            "participating media are not supported by this build yet",
+            "medium",
+            format!(
+                "at most {MAX_OVERLAPPING_MEDIA} media are supported, got {}",
+                desc.media.len()
+            ),
         ));
     }
+    let media = desc
+        .media
+        .iter()
+        .enumerate()
+        .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base))
+        .collect::<Result<Vec<_>>>()?;
 
     Ok(Scene {
         camera,
@@ -186,6 +209,7 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         shape_materials,
         shape_lights,
         lights,
+        media,
         settings,
     })
 }

@@ -1,0 +1,116 @@
+//! Next-event estimation from surface and medium vertices.
+
+use super::Scene;
+use crate::color::Rgb;
+use crate::geometry::SurfaceHit;
+use crate::material::Material;
+use crate::math::{offset_origin, Ray, Vec3};
+use crate::medium::PhaseFunction;
+use crate::sampling::{power_heuristic, Sampler};
+
+/// A path vertex seen from next-event estimation.
+pub(super) enum Vertex<'a> {
+    /// A surface point with its BSDF.
+    Surface {
+        hit: &'a SurfaceHit,
+        /// Shading normal on the side of `wo`.
+        normal: Vec3,
+        wo: Vec3,
+        material: &'a Material,
+    },
+    /// A real scattering event in a medium.
+    Medium {
+        p: Vec3,
+        /// Propagation direction of the arriving path.
+        dir_in: Vec3,
+        phase: &'a PhaseFunction,
+    },
+}
+
+impl Vertex<'_> {
+    /// Where shadow rays toward `wi` start.
+    fn shadow_origin(&self, wi: Vec3) -> Vec3 {
+        match self {
+            Vertex::Surface { hit, .. } => offset_origin(hit.p, hit.geometric_normal, wi),
+            Vertex::Medium { p, .. } => *p,
+        }
+    }
+
+    /// The point itself.
+    fn position(&self) -> Vec3 {
+        match self {
+            Vertex::Surface { hit, .. } => hit.p,
+            Vertex::Medium { p, .. } => *p,
+        }
+    }
+
+    /// Scattering toward `wi` (BSDF·cos, or phase) and the density of sampling it.
+    fn scattering(&self, wi: Vec3) -> (Rgb, f32) {
+        match self {
+            Vertex::Surface {
+                normal,
+                wo,
+                material,
+                ..
+            } => (
+                material.eval(*normal, *wo, wi),
+                material.pdf(*normal, *wo, wi),
+            ),
+            Vertex::Medium { dir_in, phase, .. } => {
+                let p = phase.eval(*dir_in, wi);
+                (Rgb::splat(p), phase.pdf(*dir_in, wi))
+            }
+        }
+    }
+}
+
+/// Next-event estimation from `vertex` to one light chosen uniformly.
+///
+/// Shadow rays carry the media's transmittance. With `full_weight` the sample
+/// is not MIS-weighted (no BSDF/phase strategy follows it).
+pub(super) fn direct_light(
+    scene: &Scene,
+    vertex: &Vertex,
+    sampler: &mut Sampler,
+    full_weight: bool,
+) -> Rgb {
+    if scene.lights.is_empty() {
+        return Rgb::BLACK;
+    }
+    let pick = sampler.next_1d();
+    let u = sampler.next_2d();
+    let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
+    let light = &scene.lights[index];
+    let Some(ls) = light.sample(vertex.position(), u, &scene.geometry) else {
+        return Rgb::BLACK;
+    };
+    let (f, scatter_pdf) = vertex.scattering(ls.wi);
+    if f.is_black() {
+        return Rgb::BLACK;
+    }
+    let origin = vertex.shadow_origin(ls.wi);
+    let shadow = Ray::new(origin, ls.wi);
+    let t_max = if ls.distance.is_finite() {
+        (ls.distance - (origin - vertex.position()).length()) * (1.0 - 1e-4)
+    } else {
+        f32::INFINITY
+    };
+    if scene.geometry.occluded(&shadow, t_max) {
+        return Rgb::BLACK;
+    }
+    let tr = if scene.media.is_empty() {
+        Rgb::WHITE
+    } else {
+        scene.transmittance(&shadow, t_max, sampler)
+    };
+    if tr.is_black() {
+        return Rgb::BLACK;
+    }
+    let light_pdf = ls.pdf * scene.light_pick_probability();
+    let weight = if ls.is_delta || full_weight {
+        1.0
+    } else {
+        power_heuristic(light_pdf, scatter_pdf)
+    };
+    f * tr * ls.radiance * (weight / light_pdf)
+}

@@ -1,0 +1,116 @@
+//! Where a bounded medium lives: all space, a transformed box or a transformed sphere.
+
+use crate::math::{Affine3A, Bounds3, Ray, Vec3};
+
+/// The part of space a medium fills.
+#[derive(Clone, Copy, Debug)]
+pub enum Region {
+    /// All of space.
+    Everywhere,
+    /// A box given in local coordinates, placed by `world_to_local`'s inverse.
+    Box {
+        /// World → local map.
+        world_to_local: Affine3A,
+        /// The box in local coordinates.
+        local: Bounds3,
+    },
+    /// A sphere given in local coordinates.
+    Sphere {
+        /// World → local map.
+        world_to_local: Affine3A,
+        /// Centre in local coordinates.
+        center: Vec3,
+        /// Radius in local coordinates.
+        radius: f32,
+    },
+}
+
+impl Region {
+    /// The ray-parameter interval inside the region, clipped to `[0, t_max]`.
+    ///
+    /// The ray is mapped to local space without renormalizing its direction,
+    /// so parameters are the same in both spaces.
+    pub fn interval(&self, ray: &Ray, t_max: f32) -> Option<(f32, f32)> {
+        match self {
+            Region::Everywhere => (t_max > 0.0).then_some((0.0, t_max)),
+            Region::Box {
+                world_to_local,
+                local,
+            } => {
+                let local_ray = Ray::new(
+                    world_to_local.transform_point3(ray.origin),
+                    world_to_local.transform_vector3(ray.direction),
+                );
+                local.intersect_ray(&local_ray, t_max)
+            }
+            Region::Sphere {
+                world_to_local,
+                center,
+                radius,
+            } => {
+                let o = world_to_local.transform_point3(ray.origin) - *center;
+                let d = world_to_local.transform_vector3(ray.direction);
+                let a = d.length_squared();
+                let b = o.dot(d);
+                // Subtract the projected part first: precise for distant origins.
+                let perp = o - d * (b / a);
+                let disc = a * (radius * radius - perp.length_squared());
+                if disc < 0.0 {
+                    return None;
+                }
+                let root = disc.sqrt();
+                let t0 = ((-b - root) / a).max(0.0);
+                let t1 = ((-b + root) / a).min(t_max);
+                (t0 < t1).then_some((t0, t1))
+            }
+        }
+    }
+
+    /// True when world point `p` lies in the region.
+    pub fn contains(&self, p: Vec3) -> bool {
+        match self {
+            Region::Everywhere => true,
+            Region::Box {
+                world_to_local,
+                local,
+            } => local.contains(world_to_local.transform_point3(p)),
+            Region::Sphere {
+                world_to_local,
+                center,
+                radius,
+            } => (world_to_local.transform_point3(p) - *center).length_squared() <= radius * radius,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transformed_box_and_sphere_intervals() {
+        let to_world = Affine3A::from_scale_rotation_translation(
+            Vec3::splat(2.0),
+            crate::math::Quat::from_rotation_y(0.3),
+            Vec3::new(5.0, 0.0, 0.0),
+        );
+        let world_to_local = to_world.inverse();
+        let sphere = Region::Sphere {
+            world_to_local,
+            center: Vec3::ZERO,
+            radius: 1.0,
+        };
+        // World sphere: centre (5,0,0), radius 2.
+        let ray = Ray::new(Vec3::ZERO, Vec3::X);
+        let (t0, t1) = sphere.interval(&ray, f32::INFINITY).unwrap();
+        assert!((t0 - 3.0).abs() < 1e-4 && (t1 - 7.0).abs() < 1e-4);
+        let boxed = Region::Box {
+            world_to_local: Affine3A::from_translation(Vec3::new(-5.0, 0.0, 0.0)),
+            local: Bounds3::new(Vec3::splat(-1.0), Vec3::splat(1.0)),
+        };
+        let (t0, t1) = boxed.interval(&ray, 5.5).unwrap();
+        assert!((t0 - 4.0).abs() < 1e-5 && (t1 - 5.5).abs() < 1e-5);
+        assert!(boxed.contains(Vec3::new(5.5, 0.5, 0.0)));
+        assert!(!sphere.contains(Vec3::new(5.0, 2.5, 0.0)));
+    }
+}

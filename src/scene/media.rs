@@ -1,0 +1,163 @@
+//! Turning `[[medium]]` entries into media.
+
+use super::description::{BoundsDesc, MediumDesc, PhaseDesc};
+use super::shapes::build_transform;
+use super::validate::Check;
+use crate::color::Rgb;
+use crate::error::Result;
+use crate::math::Bounds3;
+use crate::medium::{HomogeneousMedium, Medium, PhaseFunction, Region};
+use std::path::Path;
+
+/// The phase function of `phase = { ... }` (isotropic when absent).
+pub(crate) fn build_phase(
+    desc: Option<&PhaseDesc>,
+    field: &str,
+    check: &Check,
+) -> Result<PhaseFunction> {
+    let field = format!("{field}.phase");
+    let phase = match desc {
+        None | Some(PhaseDesc::Isotropic {}) => PhaseFunction::Isotropic,
+        Some(PhaseDesc::Hg { g }) => PhaseFunction::HenyeyGreenstein { g: *g },
+        Some(PhaseDesc::Rayleigh {}) => PhaseFunction::Rayleigh,
+        Some(PhaseDesc::DoubleHg {
+            g_forward,
+            g_back,
+            weight,
+        }) => PhaseFunction::DoubleHenyeyGreenstein {
+            g_forward: *g_forward,
+            g_back: *g_back,
+            weight_forward: *weight,
+        },
+    };
+    phase.validate().map_err(|m| check.error(&field, m))?;
+    Ok(phase)
+}
+
+/// σa and σs from either (sigma_a, sigma_s) or (sigma_t, albedo).
+pub(crate) fn coefficients(
+    sigma_a: Option<super::description::Color>,
+    sigma_s: Option<super::description::Color>,
+    sigma_t: Option<super::description::Color>,
+    albedo: Option<super::description::Color>,
+    field: &str,
+    check: &Check,
+) -> Result<(Rgb, Rgb)> {
+    let f = |name: &str| format!("{field}.{name}");
+    match (sigma_t, albedo) {
+        (Some(t), a) => {
+            if sigma_a.is_some() || sigma_s.is_some() {
+                return Err(check.error(
+                    &f("sigma_t"),
+                    "give either sigma_t (with albedo) or sigma_a/sigma_s, not both",
+                ));
+            }
+            let t = check.color(&f("sigma_t"), t)?;
+            let a = match a {
+                Some(a) => check.albedo(&f("albedo"), a)?,
+                None => Rgb::WHITE,
+            };
+            Ok((t * (Rgb::WHITE - a), t * a))
+        }
+        (None, Some(_)) => Err(check.error(&f("albedo"), "needs sigma_t")),
+        (None, None) => {
+            if sigma_a.is_none() && sigma_s.is_none() {
+                return Err(check.error(
+                    field,
+                    "needs sigma_a and/or sigma_s, or sigma_t with albedo",
+                ));
+            }
+            let zero = super::description::Color([0.0; 3]);
+            Ok((
+                check.color(&f("sigma_a"), sigma_a.unwrap_or(zero))?,
+                check.color(&f("sigma_s"), sigma_s.unwrap_or(zero))?,
+            ))
+        }
+    }
+}
+
+/// The region of a bounded medium, or all space with `global = true`.
+fn build_region(
+    bounds: Option<&BoundsDesc>,
+    global: bool,
+    transform: Option<&super::description::TransformDesc>,
+    field: &str,
+    check: &Check,
+) -> Result<Region> {
+    match (bounds, global) {
+        (Some(_), true) => {
+            Err(check.error(&format!("{field}.global"), "a global medium has no bounds"))
+        }
+        (None, false) => Err(check.error(field, "needs bounds (box or sphere) or global = true")),
+        (None, true) => {
+            if transform.is_some() {
+                return Err(check.error(
+                    &format!("{field}.transform"),
+                    "a global medium has no transform",
+                ));
+            }
+            Ok(Region::Everywhere)
+        }
+        (Some(b), false) => {
+            let to_world = build_transform(transform, field, check)?;
+            let world_to_local = to_world.inverse();
+            Ok(match b {
+                BoundsDesc::Box { min, max } => {
+                    let min = check.vec3(&format!("{field}.bounds.min"), *min)?;
+                    let max = check.vec3(&format!("{field}.bounds.max"), *max)?;
+                    if !(min.cmplt(max).all()) {
+                        return Err(check.error(
+                            &format!("{field}.bounds"),
+                            "min must be below max on every axis",
+                        ));
+                    }
+                    Region::Box {
+                        world_to_local,
+                        local: Bounds3 { min, max },
+                    }
+                }
+                BoundsDesc::Sphere { center, radius } => Region::Sphere {
+                    world_to_local,
+                    center: check.vec3(&format!("{field}.bounds.center"), *center)?,
+                    radius: check.positive(&format!("{field}.bounds.radius"), *radius)?,
+                },
+            })
+        }
+    }
+}
+
+/// The medium of one `[[medium]]` entry.
+pub(crate) fn build_medium(
+    desc: &MediumDesc,
+    field: &str,
+    check: &Check,
+    _base: &Path,
+) -> Result<Medium> {
+    match desc {
+        MediumDesc::Homogeneous {
+            sigma_a,
+            sigma_s,
+            sigma_t,
+            albedo,
+            emission,
+            phase,
+            bounds,
+            global,
+            transform,
+        } => {
+            let (sigma_a, sigma_s) =
+                coefficients(*sigma_a, *sigma_s, *sigma_t, *albedo, field, check)?;
+            let emission = match emission {
+                Some(e) => check.color(&format!("{field}.emission"), *e)?,
+                None => Rgb::BLACK,
+            };
+            Ok(Medium::Homogeneous(HomogeneousMedium {
+                sigma_a,
+                sigma_s,
+                emission,
+                phase: build_phase(phase.as_ref(), field, check)?,
+                region: build_region(bounds.as_ref(), *global, transform.as_ref(), field, check)?,
+            }))
+        }
+    }
+}
