@@ -137,17 +137,20 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         max_scatter_depth: integ.max_scatter_depth.unwrap_or(u32::MAX),
         rr_depth: integ.rr_depth,
         seed: integ.seed,
+        equiangular: integ.equiangular,
         transmittance: match integ.transmittance.as_str() {
             "auto" => TransmittanceEstimator::Auto,
             "ratio" => TransmittanceEstimator::Ratio,
             "residual_ratio" => TransmittanceEstimator::ResidualRatio,
             "delta" => TransmittanceEstimator::Delta,
-            other => return Err(check.error(
-                "integrator.transmittance",
-                format!(
+            other => {
+                return Err(check.error(
+                    "integrator.transmittance",
+                    format!(
                     "unknown estimator `{other}`, expected auto, ratio, residual_ratio or delta"
                 ),
-            )),
+                ))
+            }
         },
     };
 
