@@ -1,0 +1,187 @@
+//! A coarse grid of density bounds over a sparse volume, walked by a 3D DDA.
+//!
+//! Each cell holds the largest and smallest density that trilinear lookups
+//! can return anywhere in the cell: the bounds of the values stored in every
+//! leaf brick and tile whose voxels the cell's trilinear support touches
+//! (the cell widened by one voxel on each side), plus the background value
+//! when that support is not entirely covered by bricks and tiles. A trilinear
+//! value is a convex combination of its eight corner voxels, so it lies
+//! between these bounds; the bounds are then widened by a relative 2⁻²⁰ to
+//! absorb the rounding of the interpolation.
+
+use glam::{IVec3, Vec3};
+
+use crate::volume::FloatGrid;
+
+/// Relative widening of the cell bounds, covering rounding in trilinear lookups.
+const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
+
+/// Density bounds over a dense grid of coarse cells in index space.
+#[derive(Clone, Debug)]
+pub struct MajorantGrid {
+    /// Index-space position of the corner of cell (0, 0, 0).
+    origin: Vec3,
+    /// Cell size in voxels along each axis.
+    cell: Vec3,
+    /// Number of cells along each axis.
+    dims: IVec3,
+    /// Largest density per cell (≥ 0).
+    max: Vec<f32>,
+    /// Smallest density per cell (≥ 0).
+    min: Vec<f32>,
+}
+
+impl MajorantGrid {
+    /// Bounds of `grid`'s (clamped to ≥ 0) density over the index box `[lo, hi]`, in cells of `cell` voxels.
+    ///
+    /// `cell` equal to the box extent gives one global bound.
+    pub fn build(grid: &FloatGrid, lo: Vec3, hi: Vec3, cell: Vec3) -> MajorantGrid {
+        let dims = ((hi - lo) / cell).ceil().as_ivec3().max(IVec3::ONE);
+        let n = (dims.x * dims.y * dims.z) as usize;
+        let mut max = vec![f32::NEG_INFINITY; n];
+        let mut min = vec![f32::INFINITY; n];
+        let mut covered = vec![0u64; n];
+        let cell_i = cell.ceil().as_ivec3();
+        let lo_i = lo.floor().as_ivec3();
+        // Integer voxel support of cell c: [support_lo(c), support_lo(c) + span) per axis.
+        let support_lo = |c: IVec3| (lo + c.as_vec3() * cell).floor().as_ivec3() - IVec3::ONE;
+        let span = cell_i + IVec3::splat(3);
+        let support_volume = span.as_i64vec3().element_product() as u64;
+        for block in grid.blocks() {
+            let b_lo = block.min;
+            let b_hi = block.min + IVec3::splat(block.size - 1);
+            // Cells whose support [floor(lo + c·cell) - 1, … + cell + 2) meets the block.
+            let c_lo = ((b_lo - lo_i - cell_i - IVec3::splat(2)).as_vec3() / cell)
+                .floor()
+                .as_ivec3()
+                .max(IVec3::ZERO);
+            let c_hi = ((b_hi - lo_i + IVec3::splat(2)).as_vec3() / cell)
+                .floor()
+                .as_ivec3()
+                .min(dims - IVec3::ONE);
+            for z in c_lo.z..=c_hi.z {
+                for y in c_lo.y..=c_hi.y {
+                    for x in c_lo.x..=c_hi.x {
+                        let c = IVec3::new(x, y, z);
+                        let s_lo = support_lo(c);
+                        let s_hi = s_lo + span - IVec3::ONE;
+                        let overlap =
+                            (s_hi.min(b_hi) - s_lo.max(b_lo) + IVec3::ONE).max(IVec3::ZERO);
+                        let volume = overlap.as_i64vec3().element_product() as u64;
+                        if volume == 0 {
+                            continue;
+                        }
+                        let i = (x + dims.x * (y + dims.y * z)) as usize;
+                        max[i] = max[i].max(block.max_value);
+                        min[i] = min[i].min(block.min_value);
+                        covered[i] += volume;
+                    }
+                }
+            }
+        }
+        let background = grid.background();
+        for i in 0..n {
+            // Bricks and tiles are disjoint: less coverage than the support means background voxels.
+            if covered[i] < support_volume {
+                max[i] = max[i].max(background);
+                min[i] = min[i].min(background);
+            }
+            max[i] = max[i].max(0.0) * (1.0 + ROUNDING_PAD);
+            min[i] = min[i].max(0.0) * (1.0 - ROUNDING_PAD);
+        }
+        MajorantGrid {
+            origin: lo,
+            cell,
+            dims,
+            max,
+            min,
+        }
+    }
+
+    /// Number of cells along each axis.
+    pub fn dims(&self) -> IVec3 {
+        self.dims
+    }
+
+    /// (min, max) density bound of cell `c`.
+    #[inline]
+    pub fn bounds(&self, c: IVec3) -> (f32, f32) {
+        let i = (c.x + self.dims.x * (c.y + self.dims.y * c.z)) as usize;
+        (self.min[i], self.max[i])
+    }
+
+    /// Largest bound over all cells.
+    pub fn global_max(&self) -> f32 {
+        self.max.iter().copied().fold(0.0, f32::max)
+    }
+
+    /// Starts a DDA walk of the index-space ray `o + t·d` over `[t0, t1]` (already clipped to the grid).
+    pub fn walk(&self, o: Vec3, d: Vec3, t0: f32, t1: f32) -> Dda {
+        let g = (o + d * t0 - self.origin) / self.cell;
+        let cell = g
+            .floor()
+            .as_ivec3()
+            .clamp(IVec3::ZERO, self.dims - IVec3::ONE);
+        let step = IVec3::select(d.cmpge(Vec3::ZERO), IVec3::ONE, IVec3::NEG_ONE);
+        let mut t_next = Vec3::INFINITY;
+        let mut t_delta = Vec3::INFINITY;
+        for a in 0..3 {
+            if d[a] != 0.0 {
+                let boundary = cell[a] + (step[a] > 0) as i32;
+                let plane = self.origin[a] + boundary as f32 * self.cell[a];
+                t_next[a] = (plane - o[a]) / d[a];
+                t_delta[a] = self.cell[a] / d[a].abs();
+            }
+        }
+        Dda {
+            cell,
+            step,
+            t: t0,
+            t_end: t1,
+            t_next,
+            t_delta,
+        }
+    }
+}
+
+/// State of a 3D DDA (Amanatides & Woo 1987) over the cells of a [`MajorantGrid`].
+#[derive(Clone, Copy, Debug)]
+pub struct Dda {
+    cell: IVec3,
+    step: IVec3,
+    t: f32,
+    t_end: f32,
+    t_next: Vec3,
+    t_delta: Vec3,
+}
+
+impl Dda {
+    /// The next cell crossed: `(cell, t0, t1)`, or `None` past the end.
+    #[inline]
+    pub fn next_cell(&mut self, dims: IVec3) -> Option<(IVec3, f32, f32)> {
+        if self.t >= self.t_end {
+            return None;
+        }
+        let axis = if self.t_next.x < self.t_next.y {
+            if self.t_next.x < self.t_next.z {
+                0
+            } else {
+                2
+            }
+        } else if self.t_next.y < self.t_next.z {
+            1
+        } else {
+            2
+        };
+        let cell = self.cell;
+        let t0 = self.t;
+        let t1 = self.t_next[axis].min(self.t_end);
+        self.t = t1;
+        self.cell[axis] += self.step[axis];
+        self.t_next[axis] += self.t_delta[axis];
+        if self.cell[axis] < 0 || self.cell[axis] >= dims[axis] {
+            self.t = self.t_end;
+        }
+        Some((cell, t0, t1.max(t0)))
+    }
+}
