@@ -185,3 +185,69 @@ impl Dda {
         Some((cell, t0, t1.max(t0)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::GridTransform;
+    use glam::DVec3;
+
+    fn hash(i: u64) -> f32 {
+        let z = crate::sampling::mix64(i);
+        (z >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// A noisy grid with an unaligned, negative origin and some negative values.
+    fn noisy_grid() -> FloatGrid {
+        let dims = IVec3::new(37, 20, 29);
+        let n = (dims.x * dims.y * dims.z) as u64;
+        let values: Vec<f32> = (0..n).map(|i| 3.0 * hash(i) - 0.5).collect();
+        let t = GridTransform::scale_translate("ScaleMap", DVec3::ONE, DVec3::ZERO).unwrap();
+        FloatGrid::from_dense("noise", IVec3::new(-5, 3, -11), dims, &values, t).unwrap()
+    }
+
+    /// Every trilinear value in a cell lies within the cell's bounds.
+    #[test]
+    fn cell_bounds_hold_for_trilinear_lookups() {
+        let grid = noisy_grid();
+        let (lo, hi) = grid.index_bbox_active().unwrap();
+        let (lo, hi) = ((lo - IVec3::ONE).as_vec3(), (hi + IVec3::ONE).as_vec3());
+        let m = MajorantGrid::build(&grid, lo, hi, Vec3::splat(8.0));
+        for i in 0..200_000u64 {
+            let u = Vec3::new(hash(3 * i + 7), hash(3 * i + 8), hash(3 * i + 9));
+            let p = lo + (hi - lo) * u;
+            let c = ((p - lo) / 8.0)
+                .floor()
+                .as_ivec3()
+                .min(m.dims() - IVec3::ONE);
+            let (min, max) = m.bounds(c);
+            let v = grid.trilinear_index(p).max(0.0);
+            assert!(v <= max && v >= min, "{v} outside [{min}, {max}] at {p}");
+        }
+    }
+
+    /// DDA segments are contiguous, cover the interval and hold their cell.
+    #[test]
+    fn dda_segments_tile_the_ray() {
+        let m = MajorantGrid::build(
+            &noisy_grid(),
+            Vec3::ZERO,
+            Vec3::splat(40.0),
+            Vec3::splat(8.0),
+        );
+        let o = Vec3::new(-3.0, 1.5, 2.5);
+        let d = Vec3::new(0.9, 0.35, 0.2);
+        let (t0, t1) = (3.5, 45.0);
+        let mut dda = m.walk(o, d, t0, t1);
+        let mut t = t0;
+        while let Some((c, a, b)) = dda.next_cell(m.dims()) {
+            assert!((a - t).abs() < 1e-4 && b >= a);
+            let mid = (o + d * (0.5 * (a + b)) - Vec3::ZERO) / 8.0;
+            if b - a > 1e-3 {
+                assert_eq!(mid.floor().as_ivec3(), c);
+            }
+            t = b;
+        }
+        assert!((t - t1).abs() < 1e-3 || t < t1 && (o + d * t).max_element() >= 40.0 - 1e-3);
+    }
+}
