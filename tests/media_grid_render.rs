@@ -1,5 +1,6 @@
 //! Grid (VDB) media in the path tracer: furnaces, blackbody emission with
 //! the documented normalization, and scene errors that name the field.
+#![allow(clippy::needless_range_loop)]
 
 mod common;
 
