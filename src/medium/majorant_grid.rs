@@ -1,10 +1,12 @@
 //! A coarse grid of density bounds over a sparse volume, walked by a 3D DDA.
 //!
 //! Each cell holds the largest and smallest density that trilinear lookups
-//! can return anywhere in the cell: the bounds of the values stored in every
-//! leaf brick and tile whose voxels the cell's trilinear support touches
-//! (the cell widened by one voxel on each side), plus the background value
-//! when that support is not entirely covered by bricks and tiles. A trilinear
+//! can return anywhere in the cell: the bounds of the values stored in the
+//! voxels its trilinear support holds (the cell widened by one voxel on each
+//! side), taken per voxel in leaf bricks and per block for tiles and uniform
+//! leaves, plus the background value when that support is not entirely
+//! covered by bricks and tiles. Only the sparse leaves and tiles are read
+//! (`FloatGrid::blocks`), never a dense array of the bounding box. A trilinear
 //! value is a convex combination of its eight corner voxels, so it lies
 //! between these bounds; the bounds are then widened by a relative 2⁻²⁰ to
 //! absorb the rounding of the interpolation.
@@ -15,6 +17,16 @@ use crate::volume::FloatGrid;
 
 /// Relative widening of the cell bounds, covering rounding in trilinear lookups.
 const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
+
+/// ⌊a / b⌋ per component (b > 0).
+fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
+    IVec3::new(a.x.div_euclid(b.x), a.y.div_euclid(b.y), a.z.div_euclid(b.z))
+}
+
+/// ⌈a / b⌉ per component (b > 0).
+fn div_ceil(a: IVec3, b: IVec3) -> IVec3 {
+    -div_floor(-a, b)
+}
 
 /// Density bounds over a dense grid of coarse cells in index space.
 #[derive(Clone, Debug)]
@@ -50,6 +62,7 @@ impl MajorantGrid {
         for block in grid.blocks() {
             let b_lo = block.min;
             let b_hi = block.min + IVec3::splat(block.size - 1);
+            let per_voxel = block.size == 8 && block.min_value != block.max_value;
             // Cells whose support [floor(lo + c·cell) - 1, … + cell + 2) meets the block.
             let c_lo = ((b_lo - lo_i - cell_i - IVec3::splat(2)).as_vec3() / cell)
                 .floor()
@@ -72,9 +85,30 @@ impl MajorantGrid {
                             continue;
                         }
                         let i = (x + dims.x * (y + dims.y * z)) as usize;
-                        max[i] = max[i].max(block.max_value);
-                        min[i] = min[i].min(block.min_value);
+                        if !per_voxel {
+                            max[i] = max[i].max(block.max_value);
+                            min[i] = min[i].min(block.min_value);
+                        }
                         covered[i] += volume;
+                    }
+                }
+            }
+            if per_voxel {
+                // Leaf bricks vary inside: bound each cell by the voxels its support holds.
+                for v in 0..512 {
+                    let ijk = b_lo + IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
+                    let value = grid.value(ijk);
+                    let rel = ijk - lo_i;
+                    let c0 = div_ceil(rel - cell_i - IVec3::ONE, cell_i).max(IVec3::ZERO);
+                    let c1 = div_floor(rel + IVec3::ONE, cell_i).min(dims - IVec3::ONE);
+                    for z in c0.z..=c1.z {
+                        for y in c0.y..=c1.y {
+                            for x in c0.x..=c1.x {
+                                let i = (x + dims.x * (y + dims.y * z)) as usize;
+                                max[i] = max[i].max(value);
+                                min[i] = min[i].min(value);
+                            }
+                        }
                     }
                 }
             }
