@@ -245,3 +245,19 @@ fn smoke_plume_temperature_emission() {
         );
     }
 }
+
+/// The shipped smoke scene loads its volume and renders finite, non-black pixels on the plume.
+#[test]
+fn smoke_scene_renders() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/smoke.toml");
+    let scene = brume::scene::load(&path).expect("scenes/smoke.toml");
+    assert!(matches!(scene.media[0], Medium::Grid(_)));
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let mut sampler = brume::sampling::Sampler::new(0, w / 2, h / 2, 0);
+    let ray = scene.camera.generate_ray(w / 2, h / 2, sampler.next_2d());
+    let est = estimate_ray(&scene, ray, 64, 5);
+    assert!(
+        est.mean.iter().all(|v| v.is_finite() && *v > 0.0),
+        "{est:?}"
+    );
+}

@@ -20,7 +20,11 @@ const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
 
 /// ⌊a / b⌋ per component (b > 0).
 fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
-    IVec3::new(a.x.div_euclid(b.x), a.y.div_euclid(b.y), a.z.div_euclid(b.z))
+    IVec3::new(
+        a.x.div_euclid(b.x),
+        a.y.div_euclid(b.y),
+        a.z.div_euclid(b.z),
+    )
 }
 
 /// ⌈a / b⌉ per component (b > 0).
