@@ -6,10 +6,14 @@
 //! and free-flight estimators live in `integrator`, written once over
 //! majorant segments.
 
+pub mod blackbody;
+pub mod grid;
 pub mod homogeneous;
+pub mod majorant_grid;
 pub mod phase;
 pub mod region;
 
+pub use grid::{GridEmission, GridMedium, GridMediumParams, MajorantMode};
 pub use homogeneous::HomogeneousMedium;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
@@ -62,6 +66,8 @@ impl MajorantSegment {
 pub enum MajorantIter {
     /// At most one segment.
     Single(Option<MajorantSegment>),
+    /// A DDA over the majorant cells of a grid medium.
+    Grid(grid::GridMajorants),
 }
 
 impl Iterator for MajorantIter {
@@ -70,6 +76,7 @@ impl Iterator for MajorantIter {
     fn next(&mut self) -> Option<MajorantSegment> {
         match self {
             MajorantIter::Single(s) => s.take(),
+            MajorantIter::Grid(g) => g.next(),
         }
     }
 }
@@ -79,6 +86,8 @@ impl Iterator for MajorantIter {
 pub enum Medium {
     /// Constant coefficients inside a region.
     Homogeneous(HomogeneousMedium),
+    /// Density from a sparse grid (OpenVDB), tracked over a majorant grid.
+    Grid(std::sync::Arc<GridMedium>),
 }
 
 impl Medium {
@@ -87,6 +96,7 @@ impl Medium {
     pub fn properties(&self, p: Vec3) -> MediumProperties {
         match self {
             Medium::Homogeneous(m) => m.properties(p),
+            Medium::Grid(m) => m.properties(p),
         }
     }
 
@@ -95,6 +105,7 @@ impl Medium {
     pub fn majorants(&self, ray: &Ray, t_max: f32) -> MajorantIter {
         match self {
             Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
+            Medium::Grid(m) => MajorantIter::Grid(m.majorants(ray, t_max)),
         }
     }
 
@@ -103,6 +114,7 @@ impl Medium {
     pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Option<Rgb> {
         match self {
             Medium::Homogeneous(m) => Some(m.optical_depth(ray, t0, t1)),
+            Medium::Grid(_) => None,
         }
     }
 
@@ -110,6 +122,7 @@ impl Medium {
     pub fn is_emissive(&self) -> bool {
         match self {
             Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
+            Medium::Grid(m) => m.is_emissive(),
         }
     }
 }

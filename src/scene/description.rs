@@ -357,6 +357,8 @@ pub enum MediumDesc {
         #[serde(default)]
         transform: Option<TransformDesc>,
     },
+    /// Density from an OpenVDB grid (see `scene::vdb`).
+    Vdb(super::vdb::VdbDesc),
 }
 
 /// `phase = { ... }` of a medium.

@@ -131,7 +131,7 @@ pub(crate) fn build_medium(
     desc: &MediumDesc,
     field: &str,
     check: &Check,
-    _base: &Path,
+    base: &Path,
 ) -> Result<Medium> {
     match desc {
         MediumDesc::Homogeneous {
@@ -159,5 +159,6 @@ pub(crate) fn build_medium(
                 region: build_region(bounds.as_ref(), *global, transform.as_ref(), field, check)?,
             }))
         }
+        MediumDesc::Vdb(vdb) => super::vdb::build_vdb_medium(vdb, field, check, base),
     }
 }

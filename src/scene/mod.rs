@@ -5,6 +5,7 @@ pub mod description;
 mod media;
 mod shapes;
 mod validate;
+pub mod vdb;
 
 use crate::camera::Camera;
 use crate::color::Rgb;
