@@ -74,19 +74,26 @@ fn main() {
         Command::Render(args) => run_render(args),
         Command::Info(args) => run_info(args),
     };
-    if let Err(e) = result {
-        eprintln!("error: {e}");
-        std::process::exit(e.exit_code());
+    match result {
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(e.exit_code());
+        }
     }
 }
 
-fn run_info(args: InfoArgs) -> Result<()> {
+/// Exit code of a render stopped by Ctrl-C or SIGTERM after saving its finished
+/// passes (128 + SIGINT, as shells report an interrupted command).
+const EXIT_INTERRUPTED: i32 = 130;
+
+fn run_info(args: InfoArgs) -> Result<i32> {
     let report = brume::volume::info_report(&args.file, args.json)?;
     print!("{report}");
     if !report.ends_with('\n') {
         println!();
     }
-    Ok(())
+    Ok(0)
 }
 
 fn argument(name: &str, message: &str) -> Error {
@@ -96,7 +103,7 @@ fn argument(name: &str, message: &str) -> Error {
     }
 }
 
-fn run_render(args: RenderArgs) -> Result<()> {
+fn run_render(args: RenderArgs) -> Result<i32> {
     let mut scene = brume::scene::load(&args.scene)?;
     if let Some(spp) = args.spp {
         if spp == 0 {
@@ -144,7 +151,7 @@ fn run_render(args: RenderArgs) -> Result<()> {
     // A second signal exits at once; the first asks the render to stop and save.
     let _ = ctrlc::set_handler(move || {
         if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
+            std::process::exit(EXIT_INTERRUPTED);
         }
     });
     let show = !args.quiet && std::io::stderr().is_terminal();
@@ -161,7 +168,17 @@ fn run_render(args: RenderArgs) -> Result<()> {
     if !args.quiet {
         report(&out, &exr_path, &png_path);
     }
-    Ok(())
+    if out.image.partial {
+        // Said even with --quiet: the caller must know the image is not the full render.
+        eprintln!(
+            "interrupted: saved the {} spp finished before the stop to {} and {}",
+            out.image.spp,
+            exr_path.display(),
+            png_path.display()
+        );
+        return Ok(EXIT_INTERRUPTED);
+    }
+    Ok(0)
 }
 
 fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
@@ -169,7 +186,7 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
     eprintln!(
         "{} {}x{} at {} spp in {:.2} s ({:.2} M samples/s) -> {} , {}",
         if out.image.partial {
-            "interrupted:"
+            "stopped early:"
         } else {
             "rendered"
         },
