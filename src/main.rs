@@ -93,6 +93,15 @@ fn run_info(args: InfoArgs) -> Result<i32> {
     if !report.ends_with('\n') {
         println!();
     }
+    // The report lists damaged grids beside the good ones; scripts still need a
+    // failing exit code for a damaged file (an unsupported grid type is fine).
+    let file = brume::volume::VdbFile::open(&args.file)?;
+    for name in file.grid_names() {
+        if let Err(e @ brume::volume::VolumeError::CorruptGrid { .. }) = file.load_float_grid(&name)
+        {
+            return Err(e.into());
+        }
+    }
     Ok(0)
 }
 
