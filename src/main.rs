@@ -154,6 +154,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
     image_io::check_writable(&exr_path)?;
     image_io::check_writable(&png_path)?;
+    check_memory(&scene, &args.scene)?;
 
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
@@ -188,6 +189,28 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)
+}
+
+/// Refuses an image too large for this machine before rendering: a failed
+/// allocation mid-render would abort the process instead of giving an error.
+fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let bytes = brume::render::peak_bytes(w, h);
+    // Reserving touches no page, so the probe itself costs nothing.
+    let fits = usize::try_from(bytes)
+        .ok()
+        .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
+    if fits {
+        return Ok(());
+    }
+    Err(Error::Scene {
+        file: file.to_path_buf(),
+        field: "camera.resolution".into(),
+        message: format!(
+            "a {w}x{h} image needs {:.1} GB of memory, more than this machine can give",
+            bytes as f64 / 1e9
+        ),
+    })
 }
 
 fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {

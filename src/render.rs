@@ -52,6 +52,12 @@ struct Pixel {
     nonfinite: u32,
 }
 
+/// Bytes a `width`×`height` render holds at its peak: film, pass, image and PNG bytes.
+pub fn peak_bytes(width: u32, height: u32) -> u64 {
+    let per_pixel = 2 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3;
+    width as u64 * height as u64 * per_pixel as u64
+}
+
 impl Pixel {
     /// Adds one radiance sample; a NaN or infinite one is only counted, so it
     /// cannot spread into the pixel (or, through filtering, its neighbours).

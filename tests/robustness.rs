@@ -221,3 +221,28 @@ fn a_write_failure_after_rendering_exits_1_and_keeps_the_other_output() {
     assert_eq!(std::fs::read(&png).unwrap(), b"precious");
     assert!(temporaries(dir.path()).is_empty());
 }
+
+#[test]
+fn an_image_too_large_for_memory_is_refused_not_aborted() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(slow_scene(dir.path())).unwrap();
+    let huge = dir.path().join("huge.toml");
+    std::fs::write(&huge, text.replace("[96, 64]", "[32768, 32768]")).unwrap();
+    let bytes = brume::render::peak_bytes(32768, 32768) as usize;
+    if Vec::<u8>::new().try_reserve_exact(bytes).is_ok() {
+        eprintln!("this machine can reserve {bytes} bytes: nothing to refuse");
+        return;
+    }
+    let output = brume()
+        .current_dir(dir.path())
+        .args(["render", "--quiet", "--spp", "1", "huge.toml"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("huge.toml: camera.resolution: a 32768x32768 image needs"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("huge.exr").exists());
+}
