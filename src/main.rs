@@ -87,6 +87,9 @@ fn main() {
 /// passes (128 + SIGINT, as shells report an interrupted command).
 const EXIT_INTERRUPTED: i32 = 130;
 
+/// Largest accepted `--threads`.
+const MAX_THREADS: usize = 1024;
+
 fn run_info(args: InfoArgs) -> Result<i32> {
     let report = brume::volume::info_report(&args.file, args.json)?;
     print!("{report}");
@@ -128,6 +131,13 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     }
     if args.threads == Some(0) {
         return Err(argument("--threads", "must be at least 1"));
+    }
+    // Spawning a huge pool takes minutes and ignores Ctrl-C; no machine needs it.
+    if args.threads.is_some_and(|t| t > MAX_THREADS) {
+        return Err(argument(
+            "--threads",
+            &format!("must be at most {MAX_THREADS}"),
+        ));
     }
     let time_budget = match args.time {
         Some(t) if !(t.is_finite() && t > 0.0) => {

@@ -246,3 +246,17 @@ fn an_image_too_large_for_memory_is_refused_not_aborted() {
     );
     assert!(!dir.path().join("huge.exr").exists());
 }
+
+#[test]
+fn an_absurd_thread_count_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = slow_scene(dir.path());
+    let output = brume()
+        .args(["render", "--quiet", "--spp", "1", "--threads", "100000"])
+        .arg(&scene)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("--threads: must be at most"), "{stderr}");
+}
