@@ -20,9 +20,17 @@ fuzz_target!(|data: &[u8]| {
         let _ = (grid.active_voxel_count(), grid.value_range());
         let _ = (grid.sum_active_values(), grid.memory_bytes());
         let _ = grid.blocks().count();
-        let (lo, hi) = grid.index_bbox_active().unwrap_or((IVec3::ZERO, IVec3::ONE));
+        let (lo, hi) = grid
+            .index_bbox_active()
+            .unwrap_or((IVec3::ZERO, IVec3::ONE));
         let mid = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
-        for p in [lo.as_dvec3(), hi.as_dvec3(), mid, mid + 0.37, DVec3::splat(-1e9)] {
+        for p in [
+            lo.as_dvec3(),
+            hi.as_dvec3(),
+            mid,
+            mid + 0.37,
+            DVec3::splat(-1e9),
+        ] {
             let _ = grid.trilinear_index_f64(p);
             let _ = grid.trilinear_index(p.as_vec3());
             let _ = grid.nearest_index(p);
