@@ -99,6 +99,35 @@ fn emission_absorption_slab_koschmieder() {
     }
 }
 
+/// An emitting absorber filling all space, seen along a ray that escapes to
+/// infinity: the Koschmieder form with d = ∞, L = Le, per channel.
+/// (Regression: global media were skipped along escaping rays, giving 0.)
+#[test]
+fn emission_absorption_to_infinity() {
+    let scene = scene_from_str(
+        r#"
+        [camera]
+        position = [0.0, 0.0, 5.0]
+        look_at = [0.0, 0.0, 0.0]
+        [[light]]
+        type = "environment"
+        radiance = 7.0
+        [[medium]]
+        type = "homogeneous"
+        sigma_a = [0.2, 0.5, 0.8]
+        emission = [1.0, 2.0, 3.0]
+        global = true
+        "#,
+    );
+    let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.6, -0.8));
+    let est = estimate_li(&scene, ray, N, 30);
+    assert_estimate(
+        &est,
+        [1.0, 2.0, 3.0],
+        "global emitting absorber to infinity",
+    );
+}
+
 /// A diffuse ground (albedo ρ) in a global pure absorber, lit by a point light
 /// of intensity I at distance r, seen from a camera at distance d_cam:
 /// L = ρ/π · I cos θ / r² · e^(-σa r) · e^(-σa d_cam), exactly: nothing else

@@ -10,7 +10,8 @@ mod analytic_support;
 use analytic_support::*;
 use brume::color::Rgb;
 use brume::integrator::tracking::{
-    medium_transmittance, ratio_tracking_scaled_majorant, TransmittanceEstimator,
+    medium_transmittance, ratio_tracking_scaled_majorant, sample_free_flight, FreeFlight, Tracker,
+    TransmittanceEstimator,
 };
 use brume::math::{Affine3A, Bounds3, Quat, Ray, Vec3};
 use brume::medium::{HomogeneousMedium, Medium, PhaseFunction, Region};
@@ -272,5 +273,62 @@ fn ratio_tracking_moments_with_loose_majorants() {
                 &format!("{what}: second moment"),
             );
         }
+    }
+}
+
+/// A segment that never ends: a global medium and a ray escaping to infinity.
+///
+/// The first tentative collision is exponential with mean 1/σ̄, and every
+/// estimator gives T = 0 when all channels of σt are positive. (Regression:
+/// the tracker once computed 0·∞ = NaN for the length of such a segment and
+/// returned no collision at all, so global media were invisible along
+/// escaping rays; the product of null-collision ratios then also had to stop
+/// at underflow instead of waiting for an exact zero.)
+#[test]
+fn unbounded_segments_are_tracked() {
+    let sigma_t = [0.2, 0.5, 0.8];
+    let medium = homogeneous(sigma_t, Region::Everywhere);
+    let ray = Ray::new(Vec3::new(0.5, -1.0, 2.0), Vec3::new(0.0, 0.6, 0.8));
+    let est = estimate(N, 400, |s| {
+        let mut tracker = Tracker::new(&medium, &ray, f32::INFINITY);
+        Rgb::splat(
+            tracker
+                .next(s)
+                .expect("a collision on an unbounded segment")
+                .t,
+        )
+    });
+    assert_estimate(
+        &est,
+        [1.0 / 0.8; 3],
+        "mean free path along an unbounded segment",
+    );
+    for estimator in [
+        TransmittanceEstimator::Auto,
+        TransmittanceEstimator::Ratio,
+        TransmittanceEstimator::ResidualRatio,
+        TransmittanceEstimator::Delta,
+    ] {
+        let est = estimate(1000, 401, |s| {
+            medium_transmittance(&medium, &ray, f32::INFINITY, estimator, s)
+        });
+        assert_estimate(&est, [0.0; 3], &format!("T to infinity with {estimator:?}"));
+    }
+    let media = [medium];
+    for i in 0..1000 {
+        let mut s = brume::sampling::Sampler::new(402, 0, 0, i);
+        let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+        let event = sample_free_flight(
+            &media,
+            &ray,
+            f32::INFINITY,
+            &mut throughput,
+            &mut radiance,
+            &mut s,
+        );
+        assert!(
+            !matches!(event, FreeFlight::Passed),
+            "a path cannot pass through an infinite medium"
+        );
     }
 }
