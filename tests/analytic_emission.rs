@@ -57,12 +57,16 @@ fn koschmieder_scene(
     )
 }
 
+/// σa, Le, L_bg, slab thickness d, view angle θ from the slab normal (degrees).
+type KoschmiederCase = ([f64; 3], [f64; 3], [f64; 3], f64, f64);
+
 /// A camera ray crossing the slab at angle θ from its normal sees
 /// L = L_bg e^(-σa ℓ) + Le (1 - e^(-σa ℓ)), ℓ = d / cos θ, per channel,
 /// with the background an emissive quad or the environment.
 #[test]
 fn emission_absorption_slab_koschmieder() {
-    let cases: [([f64; 3], [f64; 3], [f64; 3], f64, f64); 4] = [
+    // (σa, Le, L_bg, d, θ in degrees)
+    let cases: [KoschmiederCase; 4] = [
         ([0.5; 3], [2.0; 3], [0.3; 3], 2.0, 0.0),
         ([0.1, 1.0, 3.0], [1.0, 0.5, 2.0], [0.2, 0.8, 0.4], 1.5, 30.0),
         ([4.0; 3], [1.5; 3], [5.0; 3], 2.0, 10.0),

@@ -56,48 +56,48 @@ fn chord(entry: Vec3, exit: Vec3, before: f32) -> (Ray, f64) {
 fn cases() -> Vec<Case> {
     let grey = |s: f64| [s; 3];
     let chroma = [0.4, 1.1, 2.5];
-    let mut out = Vec::new();
-
-    out.push(Case {
-        name: "global medium, grey",
-        medium: homogeneous(grey(0.5), Region::Everywhere),
-        ray: Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.6, 0.0, -0.8)),
-        t_max: 3.0,
-        inside: 3.0,
-        sigma_t: grey(0.5),
-    });
-    out.push(Case {
-        name: "global medium, chromatic",
-        medium: homogeneous(chroma, Region::Everywhere),
-        ray: Ray::new(Vec3::ZERO, Vec3::Y),
-        t_max: 1.5,
-        inside: 1.5,
-        sigma_t: chroma,
-    });
-    out.push(Case {
-        name: "box, straight through, grey",
-        medium: homogeneous(grey(1.3), unit_box(Affine3A::IDENTITY)),
-        ray: Ray::new(Vec3::new(-3.0, 0.2, 0.1), Vec3::X),
-        t_max: f32::INFINITY,
-        inside: 2.0,
-        sigma_t: grey(1.3),
-    });
-    out.push(Case {
-        name: "box, ray starting inside, chromatic",
-        medium: homogeneous(chroma, unit_box(Affine3A::IDENTITY)),
-        ray: Ray::new(Vec3::new(0.25, 0.0, 0.0), Vec3::X),
-        t_max: f32::INFINITY,
-        inside: 0.75,
-        sigma_t: chroma,
-    });
-    out.push(Case {
-        name: "box, ray ending inside (t_max), grey",
-        medium: homogeneous(grey(2.0), unit_box(Affine3A::IDENTITY)),
-        ray: Ray::new(Vec3::new(0.0, -3.0, 0.3), Vec3::Y),
-        t_max: 2.6,
-        inside: 0.6,
-        sigma_t: grey(2.0),
-    });
+    let mut out = vec![
+        Case {
+            name: "global medium, grey",
+            medium: homogeneous(grey(0.5), Region::Everywhere),
+            ray: Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.6, 0.0, -0.8)),
+            t_max: 3.0,
+            inside: 3.0,
+            sigma_t: grey(0.5),
+        },
+        Case {
+            name: "global medium, chromatic",
+            medium: homogeneous(chroma, Region::Everywhere),
+            ray: Ray::new(Vec3::ZERO, Vec3::Y),
+            t_max: 1.5,
+            inside: 1.5,
+            sigma_t: chroma,
+        },
+        Case {
+            name: "box, straight through, grey",
+            medium: homogeneous(grey(1.3), unit_box(Affine3A::IDENTITY)),
+            ray: Ray::new(Vec3::new(-3.0, 0.2, 0.1), Vec3::X),
+            t_max: f32::INFINITY,
+            inside: 2.0,
+            sigma_t: grey(1.3),
+        },
+        Case {
+            name: "box, ray starting inside, chromatic",
+            medium: homogeneous(chroma, unit_box(Affine3A::IDENTITY)),
+            ray: Ray::new(Vec3::new(0.25, 0.0, 0.0), Vec3::X),
+            t_max: f32::INFINITY,
+            inside: 0.75,
+            sigma_t: chroma,
+        },
+        Case {
+            name: "box, ray ending inside (t_max), grey",
+            medium: homogeneous(grey(2.0), unit_box(Affine3A::IDENTITY)),
+            ray: Ray::new(Vec3::new(0.0, -3.0, 0.3), Vec3::Y),
+            t_max: 2.6,
+            inside: 0.6,
+            sigma_t: grey(2.0),
+        },
+    ];
     let (ray, d) = chord(Vec3::new(-1.0, -0.5, 0.2), Vec3::new(0.3, 1.0, -0.4), 2.0);
     out.push(Case {
         name: "box, oblique, grey",

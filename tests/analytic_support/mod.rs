@@ -1,6 +1,6 @@
 //! Helpers of the analytic-media suite: Monte Carlo estimates of one
 //! quantity and their comparison with a closed form.
-#![allow(dead_code)]
+#![allow(dead_code, clippy::needless_range_loop)]
 
 #[path = "../common/mod.rs"]
 pub mod common;
