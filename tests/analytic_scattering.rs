@@ -205,7 +205,8 @@ struct Beam {
 }
 
 impl Beam {
-    fn scene(&self) -> String {
+    /// The scene, with shadow-ray transmittance by `estimator` (auto, ratio, residual_ratio, delta).
+    fn scene(&self, estimator: &str) -> String {
         let light = match self.spot {
             None => format!(
                 "type = \"point\"\nposition = {}\nintensity = {}",
@@ -226,6 +227,7 @@ impl Beam {
             look_at = [0.0, 0.0, 0.0]
             [integrator]
             max_scatter_depth = 1
+            transmittance = "{estimator}"
             [[light]]
             {light}
             [[medium]]
@@ -316,7 +318,8 @@ impl Beam {
 
 /// max_scatter_depth = 1 in a global medium: the radiance along a ray passing
 /// beside a point light equals the quadrature of
-/// ∫0^∞ σs p(θ(t)) I e^(-σt (t + r(t))) / r(t)² dt, whatever distance sampling the integrator uses.
+/// ∫0^∞ σs p(θ(t)) I e^(-σt (t + r(t))) / r(t)² dt, whatever distance sampling
+/// the integrator uses and whichever estimator its shadow rays use.
 #[test]
 fn point_light_single_scattering_matches_quadrature() {
     let beams = [
@@ -346,16 +349,28 @@ fn point_light_single_scattering_matches_quadrature() {
         },
     ];
     for (k, beam) in beams.iter().enumerate() {
-        let scene = scene_from_str(&beam.scene());
-        let est = estimate_li(&scene, Ray::new(Vec3::ZERO, Vec3::X), 2 * N, 120 + k as u64);
-        assert_estimate(
-            &est,
-            beam.single_scattering(),
-            &format!(
-                "point light σa={:?} σs={:?} g={}",
-                beam.sigma_a, beam.sigma_s, beam.g
-            ),
-        );
+        let expected = beam.single_scattering();
+        let grey = beam
+            .sigma_a
+            .iter()
+            .zip(&beam.sigma_s)
+            .all(|(a, s)| a + s == beam.sigma_a[0] + beam.sigma_s[0]);
+        // Shadow rays by closed form and by every tracking estimator (delta on grey media only).
+        for estimator in ["auto", "ratio", "residual_ratio", "delta"] {
+            if estimator == "delta" && !grey {
+                continue;
+            }
+            let scene = scene_from_str(&beam.scene(estimator));
+            let est = estimate_li(&scene, Ray::new(Vec3::ZERO, Vec3::X), 2 * N, 120 + k as u64);
+            assert_estimate(
+                &est,
+                expected,
+                &format!(
+                    "point light σa={:?} σs={:?} g={}, {estimator} shadow rays",
+                    beam.sigma_a, beam.sigma_s, beam.g
+                ),
+            );
+        }
     }
 }
 
@@ -381,7 +396,7 @@ fn spot_light_single_scattering_matches_quadrature() {
         },
     ];
     for (k, beam) in beams.iter().enumerate() {
-        let scene = scene_from_str(&beam.scene());
+        let scene = scene_from_str(&beam.scene("auto"));
         let est = estimate_li(&scene, Ray::new(Vec3::ZERO, Vec3::X), 2 * N, 140 + k as u64);
         assert_estimate(
             &est,
