@@ -79,6 +79,11 @@ impl Rgb {
         self.map(|v| (-v).exp())
     }
 
+    /// Optical depth of coefficients `self` over `length`, with 0·∞ taken as 0 (a clear channel stays clear).
+    pub fn depth_over(self, length: f32) -> Rgb {
+        self.map(|sigma| if sigma == 0.0 { 0.0 } else { sigma * length })
+    }
+
     /// Per-channel division that yields 0 where the divisor is 0.
     pub fn safe_div(self, d: Rgb) -> Rgb {
         let f = |a: f32, b: f32| if b != 0.0 { a / b } else { 0.0 };

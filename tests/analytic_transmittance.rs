@@ -332,3 +332,44 @@ fn unbounded_segments_are_tracked() {
         );
     }
 }
+
+/// A global medium that is transparent in some channels: to infinity those
+/// channels keep T = 1 and the others reach 0, with every estimator, and a
+/// path escapes carrying exactly the transparent channels. (Regression: the
+/// transparent channels made tracking along the unbounded segment endless.)
+#[test]
+fn unbounded_segments_with_transparent_channels_end() {
+    let sigma_t = [0.3, 0.0, 0.0];
+    let medium = homogeneous(sigma_t, Region::Everywhere);
+    let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.6, 0.8));
+    for estimator in [
+        TransmittanceEstimator::Auto,
+        TransmittanceEstimator::Ratio,
+        TransmittanceEstimator::ResidualRatio,
+    ] {
+        let est = estimate(1000, 410, |s| {
+            medium_transmittance(&medium, &ray, f32::INFINITY, estimator, s)
+        });
+        assert_estimate(
+            &est,
+            [0.0, 1.0, 1.0],
+            &format!("T to infinity with {estimator:?}"),
+        );
+    }
+    let media = [medium];
+    let est = estimate(1000, 411, |s| {
+        let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+        match sample_free_flight(
+            &media,
+            &ray,
+            f32::INFINITY,
+            &mut throughput,
+            &mut radiance,
+            s,
+        ) {
+            FreeFlight::Passed => throughput,
+            _ => Rgb::BLACK,
+        }
+    });
+    assert_estimate(&est, [0.0, 1.0, 1.0], "free flight to infinity");
+}

@@ -131,8 +131,9 @@ pub fn ratio_tracking(medium: &Medium, ray: &Ray, t_max: f32, sampler: &mut Samp
     let mut tr = Rgb::WHITE;
     while let Some(c) = tracker.next(sampler) {
         let props = medium.properties(ray.at(c.t));
-        tr *= Rgb::WHITE - (props.sigma_a + props.sigma_s) / c.sigma_maj;
-        if negligible(tr) {
+        let sigma_t = props.sigma_a + props.sigma_s;
+        tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
+        if negligible(tr) || inert(tr, sigma_t) {
             break;
         }
     }
@@ -169,14 +170,16 @@ pub fn residual_ratio_tracking(
 ) -> Rgb {
     let mut tr = Rgb::WHITE;
     for seg in medium.majorants(ray, t_max) {
-        if seg.decay != 0.0 {
-            // No control for varying majorants: plain ratio tracking on this segment.
+        if seg.decay != 0.0 || seg.t1.is_infinite() {
+            // No control for varying majorants, and an unbounded segment (a global
+            // medium) has nothing left to track once the control is taken out:
+            // plain ratio tracking, which knows when to stop.
             tr *= ratio_tracking_segment(&seg, medium, ray, sampler);
             continue;
         }
         let control = seg.sigma_control;
         let length = seg.t1 - seg.t0;
-        tr *= (control * length).exp_neg();
+        tr *= control.depth_over(length).exp_neg();
         // Residual majorant: σ̄ - min channel of the control keeps every channel's residual ratio ≥ -1.
         let residual_maj = seg.sigma_maj - control.min_channel();
         if residual_maj <= 0.0 {
@@ -214,8 +217,9 @@ fn ratio_tracking_segment(
     let mut tr = Rgb::WHITE;
     while let Some(c) = tracker.next(sampler) {
         let props = medium.properties(ray.at(c.t));
-        tr *= Rgb::WHITE - (props.sigma_a + props.sigma_s) / c.sigma_maj;
-        if negligible(tr) {
+        let sigma_t = props.sigma_a + props.sigma_s;
+        tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
+        if negligible(tr) || inert(tr, sigma_t) {
             break;
         }
     }
@@ -230,6 +234,18 @@ fn ratio_tracking_segment(
 /// drops at most 1e-38 of the estimate.
 fn negligible(w: Rgb) -> bool {
     w.map(f32::abs).max_channel() < f32::MIN_POSITIVE
+}
+
+/// True when the only channels of `w` still non-zero are those where σt is zero.
+///
+/// Every medium's extinction is a density times a fixed RGB vector (a
+/// homogeneous σt, a grid's density × scale, a fog's σ0 × e^(-h/H)), so a
+/// channel with σt = 0 at a point where another channel is positive has
+/// σt = 0 everywhere in that medium: its remaining collisions are all null
+/// and leave those channels unchanged. Stopping then is exact, and it ends
+/// tracking along unbounded segments, where it would otherwise never end.
+fn inert(w: Rgb, sigma_t: Rgb) -> bool {
+    sigma_t.max_channel() > 0.0 && (0..3).all(|c| w[c] == 0.0 || sigma_t[c] == 0.0)
 }
 
 /// The outcome of free-flight sampling along a ray segment.
@@ -321,6 +337,10 @@ pub fn sample_free_flight(
             };
         }
         *throughput = w_null / (1.0 - p_scatter);
+        if inert(*throughput, sigma_t) {
+            trackers[slot] = None;
+            continue;
+        }
         match tracker.next(sampler) {
             Some(c) => *collision = c,
             None => trackers[slot] = None,

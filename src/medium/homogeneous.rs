@@ -62,7 +62,7 @@ impl HomogeneousMedium {
     /// ∫σt over `[t0, t1]` of the ray, counting only the part inside the region.
     pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Rgb {
         match self.region.interval(ray, t1) {
-            Some((a, b)) if b > t0 => self.sigma_t() * (b - a.max(t0)),
+            Some((a, b)) if b > t0 => self.sigma_t().depth_over(b - a.max(t0)),
             _ => Rgb::BLACK,
         }
     }
