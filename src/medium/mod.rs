@@ -6,10 +6,12 @@
 //! and free-flight estimators live in `integrator`, written once over
 //! majorant segments.
 
+pub mod height_fog;
 pub mod homogeneous;
 pub mod phase;
 pub mod region;
 
+pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
@@ -62,6 +64,8 @@ impl MajorantSegment {
 pub enum MajorantIter {
     /// At most one segment.
     Single(Option<MajorantSegment>),
+    /// The pieces of a height fog.
+    Fog(height_fog::FogSegments),
 }
 
 impl Iterator for MajorantIter {
@@ -70,6 +74,7 @@ impl Iterator for MajorantIter {
     fn next(&mut self) -> Option<MajorantSegment> {
         match self {
             MajorantIter::Single(s) => s.take(),
+            MajorantIter::Fog(f) => f.next(),
         }
     }
 }
@@ -79,6 +84,8 @@ impl Iterator for MajorantIter {
 pub enum Medium {
     /// Constant coefficients inside a region.
     Homogeneous(HomogeneousMedium),
+    /// Exponential height fog filling all space.
+    HeightFog(HeightFog),
 }
 
 impl Medium {
@@ -87,6 +94,7 @@ impl Medium {
     pub fn properties(&self, p: Vec3) -> MediumProperties {
         match self {
             Medium::Homogeneous(m) => m.properties(p),
+            Medium::HeightFog(m) => m.properties(p),
         }
     }
 
@@ -95,6 +103,7 @@ impl Medium {
     pub fn majorants(&self, ray: &Ray, t_max: f32) -> MajorantIter {
         match self {
             Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
+            Medium::HeightFog(m) => MajorantIter::Fog(m.majorants(ray, t_max)),
         }
     }
 
@@ -103,6 +112,7 @@ impl Medium {
     pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Option<Rgb> {
         match self {
             Medium::Homogeneous(m) => Some(m.optical_depth(ray, t0, t1)),
+            Medium::HeightFog(m) => Some(m.optical_depth(ray, t0, t1)),
         }
     }
 
@@ -110,6 +120,7 @@ impl Medium {
     pub fn is_emissive(&self) -> bool {
         match self {
             Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
+            Medium::HeightFog(m) => m.is_emissive(),
         }
     }
 }

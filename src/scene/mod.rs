@@ -2,6 +2,7 @@
 //! that name the file and field, and building the runtime `Scene`.
 
 pub mod description;
+mod fog;
 mod media;
 mod shapes;
 mod validate;
@@ -142,12 +143,14 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
             "ratio" => TransmittanceEstimator::Ratio,
             "residual_ratio" => TransmittanceEstimator::ResidualRatio,
             "delta" => TransmittanceEstimator::Delta,
-            other => return Err(check.error(
-                "integrator.transmittance",
-                format!(
+            other => {
+                return Err(check.error(
+                    "integrator.transmittance",
+                    format!(
                     "unknown estimator `{other}`, expected auto, ratio, residual_ratio or delta"
                 ),
-            )),
+                ))
+            }
         },
     };
 
