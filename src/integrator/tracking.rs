@@ -54,7 +54,8 @@ impl Tracker {
             let length = seg.t1 - t;
             if sigma > 0.0 && length > 0.0 {
                 let k = seg.decay;
-                if k.abs() * length < 1e-4 {
+                // k == 0 first: 0·∞ is NaN on an infinite segment (a global medium, an escaping ray).
+                if k == 0.0 || k.abs() * length < 1e-4 {
                     // Constant (or nearly constant) majorant: exponential steps.
                     let dt = tau / sigma;
                     if dt < length {
