@@ -308,6 +308,12 @@ pub fn sample_free_flight(
             };
         }
         *throughput = w_null / (1.0 - p_scatter);
+        if throughput.max_channel() < 1e-30 {
+            // Chromatic null weights shrink geometrically on an endless ray, and
+            // the smallest denormal times a ratio < 1 rounds back to itself: stop.
+            *throughput = Rgb::BLACK;
+            return FreeFlight::Absorbed;
+        }
         match tracker.next(sampler) {
             Some(c) => *collision = c,
             None => trackers[slot] = None,
