@@ -37,7 +37,12 @@ fn exact_airlight_measurements_follow_koschmieder() {
     );
     for row in &report.rows {
         for (m, l0) in [(&row.bright, l0_bright), (&row.dark, l0_dark)] {
-            assert!(m.pixels >= 20, "too few pixels at {} m: {}", row.distance, m.pixels);
+            assert!(
+                m.pixels >= 20,
+                "too few pixels at {} m: {}",
+                row.distance,
+                m.pixels
+            );
             let t = (-sigma * m.distance).exp();
             let want = koschmieder(l0, le, sigma, m.distance);
             let n = (m.pixels * spp as usize) as f64;

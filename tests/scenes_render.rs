@@ -18,8 +18,8 @@ fn every_shipped_scene_renders() {
     assert!(!files.is_empty(), "no scenes in {}", dir.display());
     for file in files {
         let text = std::fs::read_to_string(&file).unwrap();
-        let mut desc = brume::scene::parse(&text, &file)
-            .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let mut desc =
+            brume::scene::parse(&text, &file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         desc.camera.resolution = [24, 24];
         desc.integrator.spp = 4;
         let scene = brume::scene::build(&desc, &file, file.parent().unwrap())
