@@ -5,7 +5,8 @@
 //! Bright targets are orange, dark ones blue; points carry ±2 standard-error
 //! bars; tick labels use a built-in 3×5 digit font.
 
-use super::{koschmieder, l0_pair, AirlightReport};
+use super::measure::{koschmieder, l0_pair};
+use super::AirlightReport;
 use crate::color::Rgb;
 use crate::image_io::Image;
 
