@@ -137,6 +137,14 @@ impl Light {
         }
     }
 
+    /// Position of a point or spot light (the lights equiangular sampling aims at).
+    pub fn point_position(&self) -> Option<Vec3> {
+        match self {
+            Light::Point { position, .. } | Light::Spot { position, .. } => Some(*position),
+            _ => None,
+        }
+    }
+
     /// True for lights at infinity that a ray escaping the scene can see.
     pub fn is_infinite(&self) -> bool {
         matches!(self, Light::Sun { .. } | Light::Environment(_))

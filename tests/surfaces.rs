@@ -8,57 +8,50 @@ use common::*;
 use std::f64::consts::PI;
 use std::sync::atomic::AtomicBool;
 
-/// A white Lambertian sphere inside a uniform environment of radiance 1:
-/// every bounce reflects all light, so every pixel must be exactly 1.
-#[test]
-fn white_furnace_sphere_in_uniform_environment() {
-    let scene = scene_from_str(
+/// A closed-form furnace: a sphere of `material` in a uniform environment of radiance 1.
+fn furnace(material: &str, rr_depth: u32, resolution: u32) -> Vec<Estimate> {
+    let scene = scene_from_str(&format!(
         r#"
         [camera]
         position = [0.0, 0.0, 4.0]
         look_at = [0.0, 0.0, 0.0]
         fov = 35.0
-        resolution = [12, 12]
+        resolution = [{resolution}, {resolution}]
         [integrator]
         max_depth = 1000
-        rr_depth = 1000
+        rr_depth = {rr_depth}
         [[light]]
         type = "environment"
         radiance = 1.0
         [[shape]]
         type = "sphere"
         radius = 1.0
-        material = { type = "diffuse", albedo = 1.0 }
-        "#,
-    );
-    let pixels = estimate_pixels(&scene, 256);
+        material = {material}
+        "#
+    ));
+    estimate_pixels(&scene, 256)
+}
+
+/// A white Lambertian sphere inside a uniform environment of radiance 1:
+/// every bounce reflects all light, so every pixel must be exactly 1.
+#[test]
+fn white_furnace_sphere_in_uniform_environment() {
+    let pixels = furnace("{ type = \"diffuse\", albedo = 1.0 }", 1000, 12);
     assert_pixels_equal(&pixels, [1.0; 3], "white furnace");
 }
 
 /// The same furnace with Russian roulette from the first bounce: still 1 (roulette reweights, never biases).
 #[test]
 fn white_furnace_with_russian_roulette_from_the_first_bounce() {
-    let scene = scene_from_str(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 35.0
-        resolution = [8, 8]
-        [integrator]
-        max_depth = 1000
-        rr_depth = 0
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[shape]]
-        type = "sphere"
-        radius = 1.0
-        material = { type = "diffuse", albedo = 1.0 }
-        "#,
-    );
-    let pixels = estimate_pixels(&scene, 256);
+    let pixels = furnace("{ type = \"diffuse\", albedo = 1.0 }", 0, 8);
     assert_pixels_equal(&pixels, [1.0; 3], "furnace with roulette");
+}
+
+/// A perfect mirror sphere in the furnace: exactly 1 as well.
+#[test]
+fn white_furnace_mirror_sphere() {
+    let pixels = furnace("{ type = \"mirror\", reflectance = 1.0 }", 1000, 8);
+    assert_pixels_equal(&pixels, [1.0; 3], "mirror furnace");
 }
 
 /// A diffuse plane lit by a point light: L = ρ/π · I cosθ / r², exactly.

@@ -23,8 +23,8 @@
 mod measure;
 mod plot;
 
-pub use measure::{fit_sigma_t, koschmieder};
 use measure::{csv, measure, table};
+pub use measure::{fit_sigma_t, koschmieder};
 
 use crate::color::Rgb;
 use crate::error::{Error, Result};
@@ -318,4 +318,3 @@ pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
     }
     Ok(report)
 }
-

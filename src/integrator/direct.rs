@@ -1,5 +1,6 @@
 //! Next-event estimation from surface and medium vertices.
 
+use super::equiangular::{free_flight_weight, Segment};
 use super::Scene;
 use crate::color::Rgb;
 use crate::geometry::SurfaceHit;
@@ -24,6 +25,8 @@ pub(super) enum Vertex<'a> {
         /// Propagation direction of the arriving path.
         dir_in: Vec3,
         phase: &'a PhaseFunction,
+        /// The equiangular segment this vertex lies on and its parameter there, for MIS.
+        equiangular: Option<(&'a Segment, f32)>,
     },
 }
 
@@ -107,10 +110,14 @@ pub(super) fn direct_light(
         return Rgb::BLACK;
     }
     let light_pdf = ls.pdf * scene.light_pick_probability();
-    let weight = if ls.is_delta || full_weight {
-        1.0
-    } else {
-        power_heuristic(light_pdf, scatter_pdf)
+    let weight = match vertex {
+        // Point and spot lights are also reached by equiangular sampling along the segment.
+        Vertex::Medium {
+            equiangular: Some((segment, t)),
+            ..
+        } if light.point_position().is_some() => free_flight_weight(scene, segment, index, *t),
+        _ if ls.is_delta || full_weight => 1.0,
+        _ => power_heuristic(light_pdf, scatter_pdf),
     };
     f * tr * ls.radiance * (weight / light_pdf)
 }

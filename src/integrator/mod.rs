@@ -7,6 +7,7 @@
 //! shadow rays, combined by MIS with phase/BSDF sampling.
 
 mod direct;
+mod equiangular;
 pub mod tracking;
 
 use crate::camera::Camera;
@@ -36,6 +37,8 @@ pub struct Settings {
     pub seed: u64,
     /// Transmittance estimator for shadow rays.
     pub transmittance: TransmittanceEstimator,
+    /// Add equiangular sampling toward point and spot lights along rays in media.
+    pub equiangular: bool,
 }
 
 /// Everything the estimator needs, built by `scene::load`.
@@ -128,6 +131,14 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         let hit = scene.geometry.intersect(&ray, f32::INFINITY);
         let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
         if !scene.media.is_empty() {
+            let segment = if depth < settings.max_depth {
+                equiangular::segment(scene, &ray, t_surface)
+            } else {
+                None
+            };
+            if let Some(segment) = &segment {
+                path.radiance += path.throughput * equiangular::estimate(scene, segment, sampler);
+            }
             let event = sample_free_flight(
                 &scene.media,
                 &ray,
@@ -151,6 +162,7 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
                         p,
                         dir_in: ray.direction,
                         phase: &properties.phase,
+                        equiangular: segment.as_ref().map(|s| (s, t)),
                     };
                     path.radiance +=
                         path.throughput * direct_light(scene, &vertex, sampler, last_vertex);

@@ -6,11 +6,15 @@
 //! and free-flight estimators live in `integrator`, written once over
 //! majorant segments.
 
+pub mod blackbody;
+pub mod grid;
 pub mod height_fog;
 pub mod homogeneous;
+pub mod majorant_grid;
 pub mod phase;
 pub mod region;
 
+pub use grid::{GridEmission, GridMedium, GridMediumParams, MajorantMode};
 pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
 pub use phase::{PhaseFunction, PhaseSample};
@@ -66,6 +70,8 @@ pub enum MajorantIter {
     Single(Option<MajorantSegment>),
     /// The pieces of a height fog.
     Fog(height_fog::FogSegments),
+    /// A DDA over the majorant cells of a grid medium.
+    Grid(grid::GridMajorants),
 }
 
 impl Iterator for MajorantIter {
@@ -75,6 +81,7 @@ impl Iterator for MajorantIter {
         match self {
             MajorantIter::Single(s) => s.take(),
             MajorantIter::Fog(f) => f.next(),
+            MajorantIter::Grid(g) => g.next(),
         }
     }
 }
@@ -86,6 +93,8 @@ pub enum Medium {
     Homogeneous(HomogeneousMedium),
     /// Exponential height fog filling all space.
     HeightFog(HeightFog),
+    /// Density from a sparse grid (OpenVDB), tracked over a majorant grid.
+    Grid(std::sync::Arc<GridMedium>),
 }
 
 impl Medium {
@@ -95,6 +104,7 @@ impl Medium {
         match self {
             Medium::Homogeneous(m) => m.properties(p),
             Medium::HeightFog(m) => m.properties(p),
+            Medium::Grid(m) => m.properties(p),
         }
     }
 
@@ -104,6 +114,7 @@ impl Medium {
         match self {
             Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
             Medium::HeightFog(m) => MajorantIter::Fog(m.majorants(ray, t_max)),
+            Medium::Grid(m) => MajorantIter::Grid(m.majorants(ray, t_max)),
         }
     }
 
@@ -113,6 +124,7 @@ impl Medium {
         match self {
             Medium::Homogeneous(m) => Some(m.optical_depth(ray, t0, t1)),
             Medium::HeightFog(m) => Some(m.optical_depth(ray, t0, t1)),
+            Medium::Grid(_) => None,
         }
     }
 
@@ -121,6 +133,7 @@ impl Medium {
         match self {
             Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
             Medium::HeightFog(m) => m.is_emissive(),
+            Medium::Grid(m) => m.is_emissive(),
         }
     }
 }

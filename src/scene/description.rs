@@ -118,6 +118,13 @@ pub struct IntegratorDesc {
     /// Shadow-ray transmittance estimator: auto, ratio, residual_ratio or delta.
     #[serde(default = "default_transmittance")]
     pub transmittance: String,
+    /// Equiangular sampling toward point and spot lights in media (MIS with free flight).
+    #[serde(default = "default_true")]
+    pub equiangular: bool,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 fn default_transmittance() -> String {
@@ -133,6 +140,7 @@ impl Default for IntegratorDesc {
             rr_depth: default_rr_depth(),
             seed: 0,
             transmittance: default_transmittance(),
+            equiangular: true,
         }
     }
 }
@@ -381,6 +389,8 @@ pub enum MediumDesc {
         #[serde(default = "default_up")]
         up: [f32; 3],
     },
+    /// Density from an OpenVDB grid (see `scene::vdb`).
+    Vdb(super::vdb::VdbDesc),
 }
 
 /// `phase = { ... }` of a medium.

@@ -131,7 +131,7 @@ pub(crate) fn build_medium(
     desc: &MediumDesc,
     field: &str,
     check: &Check,
-    _base: &Path,
+    base: &Path,
 ) -> Result<Medium> {
     match desc {
         MediumDesc::Homogeneous {
@@ -160,5 +160,6 @@ pub(crate) fn build_medium(
             }))
         }
         MediumDesc::HeightFog { .. } => super::fog::build_height_fog(desc, field, check),
+        MediumDesc::Vdb(vdb) => super::vdb::build_vdb_medium(vdb, field, check, base),
     }
 }

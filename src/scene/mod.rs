@@ -6,6 +6,7 @@ mod fog;
 mod media;
 mod shapes;
 mod validate;
+pub mod vdb;
 
 use crate::camera::Camera;
 use crate::color::Rgb;
@@ -138,6 +139,7 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         max_scatter_depth: integ.max_scatter_depth.unwrap_or(u32::MAX),
         rr_depth: integ.rr_depth,
         seed: integ.seed,
+        equiangular: integ.equiangular,
         transmittance: match integ.transmittance.as_str() {
             "auto" => TransmittanceEstimator::Auto,
             "ratio" => TransmittanceEstimator::Ratio,

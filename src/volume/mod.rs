@@ -38,6 +38,7 @@
 mod bytes;
 mod codec;
 mod coord_map;
+mod dense;
 mod error;
 mod format;
 mod grid;

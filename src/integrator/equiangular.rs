@@ -1,0 +1,166 @@
+//! Equiangular sampling (Kulla & Fajardo 2012) of in-scattering from point
+//! and spot lights along each ray segment through media, combined by MIS
+//! with the free-flight vertices' own next-event estimation.
+//!
+//! Two strategies estimate the single-scattered light from a point light
+//! along a segment: free flight (a real collision at t, then NEE to the
+//! light) and equiangular (t drawn with density ∝ 1/r², then the same
+//! connection). The power heuristic weights each by the other's density.
+//! Weights need only sum to one at every t, so the free-flight density in
+//! them may be the closed-form σt·T of the media; that is why this
+//! strategy is used only when every medium on the ray has a closed-form
+//! optical depth (homogeneous media). Outside `[t0, t1]` the equiangular
+//! density is zero and free flight keeps full weight.
+
+use super::Scene;
+use crate::color::Rgb;
+use crate::math::{Ray, Vec3};
+use crate::sampling::equiangular::{equiangular_pdf, sample_equiangular};
+use crate::sampling::Sampler;
+
+/// Longest stretch of an unbounded ray that equiangular sampling covers.
+const MAX_SPAN: f32 = 1.0e6;
+
+/// The part of a ray segment where media are, for equiangular sampling.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Segment {
+    /// The ray.
+    pub ray: Ray,
+    /// Start of the covered interval.
+    pub t0: f32,
+    /// End of the covered interval.
+    pub t1: f32,
+    /// Number of point and spot lights in the scene.
+    pub point_lights: usize,
+}
+
+/// The segment to sample along `ray` up to the surface at `t_surface`, when the strategy applies.
+pub(super) fn segment(scene: &Scene, ray: &Ray, t_surface: f32) -> Option<Segment> {
+    if !scene.settings.equiangular {
+        return None;
+    }
+    let point_lights = scene
+        .lights
+        .iter()
+        .filter(|l| l.point_position().is_some())
+        .count();
+    if point_lights == 0 {
+        return None;
+    }
+    let (mut t0, mut t1) = (f32::INFINITY, 0.0f32);
+    for medium in &scene.media {
+        let mut segments = medium.majorants(ray, t_surface).peekable();
+        let Some(first) = segments.peek().copied() else {
+            continue;
+        };
+        medium.optical_depth(ray, 0.0, first.t0)?;
+        t0 = t0.min(first.t0);
+        let last = segments.last().unwrap_or(first);
+        t1 = t1.max(last.t1);
+    }
+    t1 = t1.min(t0 + MAX_SPAN);
+    (t0 < t1).then_some(Segment {
+        ray: *ray,
+        t0,
+        t1,
+        point_lights,
+    })
+}
+
+/// Transmittance from the segment's origin to `t` and total σt at `t` (closed forms).
+fn closed_form(scene: &Scene, ray: &Ray, t: f32) -> (Rgb, Rgb) {
+    let p = ray.at(t);
+    let mut tau = Rgb::BLACK;
+    let mut sigma_t = Rgb::BLACK;
+    for medium in &scene.media {
+        tau += medium.optical_depth(ray, 0.0, t).unwrap_or(Rgb::BLACK);
+        let props = medium.properties(p);
+        sigma_t += props.sigma_a + props.sigma_s;
+    }
+    (tau.exp_neg(), sigma_t)
+}
+
+/// The density of free-flight sampling producing a vertex at `t`, as used in the MIS weights.
+fn free_flight_density(scene: &Scene, ray: &Ray, t: f32) -> f32 {
+    let (tr, sigma_t) = closed_form(scene, ray, t);
+    (tr * sigma_t).average()
+}
+
+/// MIS weight of a free-flight vertex at `t` whose NEE picked `light_index`.
+pub(super) fn free_flight_weight(
+    scene: &Scene,
+    segment: &Segment,
+    light_index: usize,
+    t: f32,
+) -> f32 {
+    let Some(light_pos) = scene.lights[light_index].point_position() else {
+        return 1.0;
+    };
+    let ray = &segment.ray;
+    let eq = equiangular_pdf(
+        ray.origin,
+        ray.direction,
+        light_pos,
+        segment.t0,
+        segment.t1,
+        t,
+    ) / segment.point_lights as f32;
+    if eq == 0.0 {
+        return 1.0;
+    }
+    let ff = free_flight_density(scene, ray, t) / scene.lights.len() as f32;
+    ff * ff / (ff * ff + eq * eq)
+}
+
+/// One equiangular estimate of in-scattered light from a point or spot light along the segment.
+pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) -> Rgb {
+    let pick = sampler.next_1d();
+    let u = sampler.next_1d();
+    let k = ((pick * segment.point_lights as f32) as usize).min(segment.point_lights - 1);
+    let Some(light) = scene
+        .lights
+        .iter()
+        .filter(|l| l.point_position().is_some())
+        .nth(k)
+    else {
+        return Rgb::BLACK;
+    };
+    let ray = &segment.ray;
+    let light_pos = light.point_position().unwrap_or(Vec3::ZERO);
+    let Some(sample) = sample_equiangular(
+        ray.origin,
+        ray.direction,
+        light_pos,
+        segment.t0,
+        segment.t1,
+        u,
+    ) else {
+        return Rgb::BLACK;
+    };
+    let t = sample.value;
+    let p = ray.at(t);
+    let Some(ls) = light.sample(p, crate::math::Vec2::ZERO, &scene.geometry) else {
+        return Rgb::BLACK;
+    };
+    let mut in_scatter = Rgb::BLACK;
+    for medium in &scene.media {
+        let props = medium.properties(p);
+        if !props.sigma_s.is_black() {
+            in_scatter += props.sigma_s * props.phase.eval(ray.direction, ls.wi);
+        }
+    }
+    if in_scatter.is_black() {
+        return Rgb::BLACK;
+    }
+    let shadow = Ray::new(p, ls.wi);
+    let t_light = ls.distance * (1.0 - 1e-4);
+    if scene.geometry.occluded(&shadow, t_light) {
+        return Rgb::BLACK;
+    }
+    let tr_light = scene.transmittance(&shadow, t_light, sampler);
+    let (tr_camera, _) = closed_form(scene, ray, t);
+    let eq = sample.pdf / segment.point_lights as f32;
+    let ff = free_flight_density(scene, ray, t) / scene.lights.len() as f32;
+    let weight = eq * eq / (eq * eq + ff * ff);
+    tr_camera * in_scatter * tr_light * ls.radiance * (weight / eq)
+}

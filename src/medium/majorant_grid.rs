@@ -1,0 +1,291 @@
+//! A coarse grid of density bounds over a sparse volume, walked by a 3D DDA.
+//!
+//! Each cell holds the largest and smallest density that trilinear lookups
+//! can return anywhere in the cell: the bounds of the values stored in the
+//! voxels its trilinear support holds (the cell widened by one voxel on each
+//! side), taken per voxel in leaf bricks and per block for tiles and uniform
+//! leaves, plus the background value when that support is not entirely
+//! covered by bricks and tiles. Only the sparse leaves and tiles are read
+//! (`FloatGrid::blocks`), never a dense array of the bounding box. A trilinear
+//! value is a convex combination of its eight corner voxels, so it lies
+//! between these bounds; the bounds are then widened by a relative 2⁻²⁰ to
+//! absorb the rounding of the interpolation.
+
+use glam::{IVec3, Vec3};
+
+use crate::volume::FloatGrid;
+
+/// Relative widening of the cell bounds, covering rounding in trilinear lookups.
+const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
+
+/// ⌊a / b⌋ per component (b > 0).
+fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
+    IVec3::new(
+        a.x.div_euclid(b.x),
+        a.y.div_euclid(b.y),
+        a.z.div_euclid(b.z),
+    )
+}
+
+/// ⌈a / b⌉ per component (b > 0).
+fn div_ceil(a: IVec3, b: IVec3) -> IVec3 {
+    -div_floor(-a, b)
+}
+
+/// Density bounds over a dense grid of coarse cells in index space.
+#[derive(Clone, Debug)]
+pub struct MajorantGrid {
+    /// Index-space position of the corner of cell (0, 0, 0).
+    origin: Vec3,
+    /// Cell size in voxels along each axis.
+    cell: Vec3,
+    /// Number of cells along each axis.
+    dims: IVec3,
+    /// Largest density per cell (≥ 0).
+    max: Vec<f32>,
+    /// Smallest density per cell (≥ 0).
+    min: Vec<f32>,
+}
+
+impl MajorantGrid {
+    /// Bounds of `grid`'s (clamped to ≥ 0) density over the index box `[lo, hi]`, in cells of `cell` voxels.
+    ///
+    /// `cell` equal to the box extent gives one global bound.
+    pub fn build(grid: &FloatGrid, lo: Vec3, hi: Vec3, cell: Vec3) -> MajorantGrid {
+        let dims = ((hi - lo) / cell).ceil().as_ivec3().max(IVec3::ONE);
+        let n = (dims.x * dims.y * dims.z) as usize;
+        let mut max = vec![f32::NEG_INFINITY; n];
+        let mut min = vec![f32::INFINITY; n];
+        let mut covered = vec![0u64; n];
+        let cell_i = cell.ceil().as_ivec3();
+        let lo_i = lo.floor().as_ivec3();
+        // Integer voxel support of cell c: [support_lo(c), support_lo(c) + span) per axis.
+        let support_lo = |c: IVec3| (lo + c.as_vec3() * cell).floor().as_ivec3() - IVec3::ONE;
+        let span = cell_i + IVec3::splat(3);
+        let support_volume = span.as_i64vec3().element_product() as u64;
+        for block in grid.blocks() {
+            let b_lo = block.min;
+            let b_hi = block.min + IVec3::splat(block.size - 1);
+            let per_voxel = block.size == 8 && block.min_value != block.max_value;
+            // Cells whose support [floor(lo + c·cell) - 1, … + cell + 2) meets the block.
+            let c_lo = ((b_lo - lo_i - cell_i - IVec3::splat(2)).as_vec3() / cell)
+                .floor()
+                .as_ivec3()
+                .max(IVec3::ZERO);
+            let c_hi = ((b_hi - lo_i + IVec3::splat(2)).as_vec3() / cell)
+                .floor()
+                .as_ivec3()
+                .min(dims - IVec3::ONE);
+            for z in c_lo.z..=c_hi.z {
+                for y in c_lo.y..=c_hi.y {
+                    for x in c_lo.x..=c_hi.x {
+                        let c = IVec3::new(x, y, z);
+                        let s_lo = support_lo(c);
+                        let s_hi = s_lo + span - IVec3::ONE;
+                        let overlap =
+                            (s_hi.min(b_hi) - s_lo.max(b_lo) + IVec3::ONE).max(IVec3::ZERO);
+                        let volume = overlap.as_i64vec3().element_product() as u64;
+                        if volume == 0 {
+                            continue;
+                        }
+                        let i = (x + dims.x * (y + dims.y * z)) as usize;
+                        if !per_voxel {
+                            max[i] = max[i].max(block.max_value);
+                            min[i] = min[i].min(block.min_value);
+                        }
+                        covered[i] += volume;
+                    }
+                }
+            }
+            if per_voxel {
+                // Leaf bricks vary inside: bound each cell by the voxels its support holds.
+                for v in 0..512 {
+                    let ijk = b_lo + IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
+                    let value = grid.value(ijk);
+                    let rel = ijk - lo_i;
+                    let c0 = div_ceil(rel - cell_i - IVec3::ONE, cell_i).max(IVec3::ZERO);
+                    let c1 = div_floor(rel + IVec3::ONE, cell_i).min(dims - IVec3::ONE);
+                    for z in c0.z..=c1.z {
+                        for y in c0.y..=c1.y {
+                            for x in c0.x..=c1.x {
+                                let i = (x + dims.x * (y + dims.y * z)) as usize;
+                                max[i] = max[i].max(value);
+                                min[i] = min[i].min(value);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let background = grid.background();
+        for i in 0..n {
+            // Bricks and tiles are disjoint: less coverage than the support means background voxels.
+            if covered[i] < support_volume {
+                max[i] = max[i].max(background);
+                min[i] = min[i].min(background);
+            }
+            max[i] = max[i].max(0.0) * (1.0 + ROUNDING_PAD);
+            min[i] = min[i].max(0.0) * (1.0 - ROUNDING_PAD);
+        }
+        MajorantGrid {
+            origin: lo,
+            cell,
+            dims,
+            max,
+            min,
+        }
+    }
+
+    /// Number of cells along each axis.
+    pub fn dims(&self) -> IVec3 {
+        self.dims
+    }
+
+    /// (min, max) density bound of cell `c`.
+    #[inline]
+    pub fn bounds(&self, c: IVec3) -> (f32, f32) {
+        let i = (c.x + self.dims.x * (c.y + self.dims.y * c.z)) as usize;
+        (self.min[i], self.max[i])
+    }
+
+    /// Largest bound over all cells.
+    pub fn global_max(&self) -> f32 {
+        self.max.iter().copied().fold(0.0, f32::max)
+    }
+
+    /// Starts a DDA walk of the index-space ray `o + t·d` over `[t0, t1]` (already clipped to the grid).
+    pub fn walk(&self, o: Vec3, d: Vec3, t0: f32, t1: f32) -> Dda {
+        let g = (o + d * t0 - self.origin) / self.cell;
+        let cell = g
+            .floor()
+            .as_ivec3()
+            .clamp(IVec3::ZERO, self.dims - IVec3::ONE);
+        let step = IVec3::select(d.cmpge(Vec3::ZERO), IVec3::ONE, IVec3::NEG_ONE);
+        let mut t_next = Vec3::INFINITY;
+        let mut t_delta = Vec3::INFINITY;
+        for a in 0..3 {
+            if d[a] != 0.0 {
+                let boundary = cell[a] + (step[a] > 0) as i32;
+                let plane = self.origin[a] + boundary as f32 * self.cell[a];
+                t_next[a] = (plane - o[a]) / d[a];
+                t_delta[a] = self.cell[a] / d[a].abs();
+            }
+        }
+        Dda {
+            cell,
+            step,
+            t: t0,
+            t_end: t1,
+            t_next,
+            t_delta,
+        }
+    }
+}
+
+/// State of a 3D DDA (Amanatides & Woo 1987) over the cells of a [`MajorantGrid`].
+#[derive(Clone, Copy, Debug)]
+pub struct Dda {
+    cell: IVec3,
+    step: IVec3,
+    t: f32,
+    t_end: f32,
+    t_next: Vec3,
+    t_delta: Vec3,
+}
+
+impl Dda {
+    /// The next cell crossed: `(cell, t0, t1)`, or `None` past the end.
+    #[inline]
+    pub fn next_cell(&mut self, dims: IVec3) -> Option<(IVec3, f32, f32)> {
+        if self.t >= self.t_end {
+            return None;
+        }
+        let axis = if self.t_next.x < self.t_next.y {
+            if self.t_next.x < self.t_next.z {
+                0
+            } else {
+                2
+            }
+        } else if self.t_next.y < self.t_next.z {
+            1
+        } else {
+            2
+        };
+        let cell = self.cell;
+        let t0 = self.t;
+        let t1 = self.t_next[axis].min(self.t_end);
+        self.t = t1;
+        self.cell[axis] += self.step[axis];
+        self.t_next[axis] += self.t_delta[axis];
+        if self.cell[axis] < 0 || self.cell[axis] >= dims[axis] {
+            self.t = self.t_end;
+        }
+        Some((cell, t0, t1.max(t0)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::GridTransform;
+    use glam::DVec3;
+
+    fn hash(i: u64) -> f32 {
+        let z = crate::sampling::mix64(i);
+        (z >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// A noisy grid with an unaligned, negative origin and some negative values.
+    fn noisy_grid() -> FloatGrid {
+        let dims = IVec3::new(37, 20, 29);
+        let n = (dims.x * dims.y * dims.z) as u64;
+        let values: Vec<f32> = (0..n).map(|i| 3.0 * hash(i) - 0.5).collect();
+        let t = GridTransform::scale_translate("ScaleMap", DVec3::ONE, DVec3::ZERO).unwrap();
+        FloatGrid::from_dense("noise", IVec3::new(-5, 3, -11), dims, &values, t).unwrap()
+    }
+
+    /// Every trilinear value in a cell lies within the cell's bounds.
+    #[test]
+    fn cell_bounds_hold_for_trilinear_lookups() {
+        let grid = noisy_grid();
+        let (lo, hi) = grid.index_bbox_active().unwrap();
+        let (lo, hi) = ((lo - IVec3::ONE).as_vec3(), (hi + IVec3::ONE).as_vec3());
+        let m = MajorantGrid::build(&grid, lo, hi, Vec3::splat(8.0));
+        for i in 0..200_000u64 {
+            let u = Vec3::new(hash(3 * i + 7), hash(3 * i + 8), hash(3 * i + 9));
+            let p = lo + (hi - lo) * u;
+            let c = ((p - lo) / 8.0)
+                .floor()
+                .as_ivec3()
+                .min(m.dims() - IVec3::ONE);
+            let (min, max) = m.bounds(c);
+            let v = grid.trilinear_index(p).max(0.0);
+            assert!(v <= max && v >= min, "{v} outside [{min}, {max}] at {p}");
+        }
+    }
+
+    /// DDA segments are contiguous, cover the interval and hold their cell.
+    #[test]
+    fn dda_segments_tile_the_ray() {
+        let m = MajorantGrid::build(
+            &noisy_grid(),
+            Vec3::ZERO,
+            Vec3::splat(40.0),
+            Vec3::splat(8.0),
+        );
+        let o = Vec3::new(-3.0, 1.5, 2.5);
+        let d = Vec3::new(0.9, 0.35, 0.2);
+        let (t0, t1) = (3.5, 45.0);
+        let mut dda = m.walk(o, d, t0, t1);
+        let mut t = t0;
+        while let Some((c, a, b)) = dda.next_cell(m.dims()) {
+            assert!((a - t).abs() < 1e-4 && b >= a);
+            let mid = (o + d * (0.5 * (a + b)) - Vec3::ZERO) / 8.0;
+            if b - a > 1e-3 {
+                assert_eq!(mid.floor().as_ivec3(), c);
+            }
+            t = b;
+        }
+        assert!((t - t1).abs() < 1e-3 || t < t1 && (o + d * t).max_element() >= 40.0 - 1e-3);
+    }
+}
