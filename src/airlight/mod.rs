@@ -2,7 +2,9 @@
 //! increasing distances in haze, measured from the rendered image and
 //! compared with Koschmieder's law
 //!
-//!     L(d) = L0·e^(-σt·d) + L_air·(1 - e^(-σt·d)),   V = ln(50)/σt.
+//! ```text
+//! L(d) = L0·e^(-σt·d) + L_air·(1 - e^(-σt·d)),   V = ln(50)/σt.
+//! ```
 //!
 //! Every target subtends the same angle (its size grows with its distance),
 //! and each column holds a bright and a dark target side by side, centred on
