@@ -100,3 +100,27 @@ fn bad_airlight_options_are_rejected() {
         assert!(run(&options).is_err());
     }
 }
+
+/// The `brume airlight` subcommand writes its files and rejects a bad visibility with exit code 2.
+#[test]
+fn airlight_subcommand_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let output = assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .args([
+            "airlight", "--exact", "--width", "64", "--spp", "2", "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{output:?}");
+    assert!(String::from_utf8_lossy(&output.stdout).contains("sigma_t fitted"));
+    assert!(out.join("airlight_plot.png").is_file());
+    assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .args(["airlight", "--visibility", "-5", "--out"])
+        .arg(dir.path().join("bad"))
+        .assert()
+        .code(2);
+}

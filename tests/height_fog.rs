@@ -14,8 +14,8 @@ use brume::error::Error;
 use brume::integrator::tracking::{
     medium_transmittance, sample_free_flight, FreeFlight, TransmittanceEstimator,
 };
-use brume::math::{Ray, Vec3};
-use brume::medium::{HeightFog, Medium, PhaseFunction};
+use brume::math::{Affine3A, Ray, Vec3};
+use brume::medium::{HeightFog, HomogeneousMedium, Medium, PhaseFunction, Region};
 use brume::sampling::chi2::IntervalChi2;
 use brume::sampling::Sampler;
 use common::*;
@@ -200,20 +200,35 @@ fn free_flight_distances_follow_closed_form_cdf() {
 }
 
 /// Spectral tracking through two overlapping absorbing fogs (one chromatic, one
-/// homogeneous-like with a huge scale height): E[weight·1{passed}] = exp(-τ1 - τ2).
+/// nearly uniform with a huge scale height) and a homogeneous sphere:
+/// E[weight·1{passed}] = exp(-τ1 - τ2 - τ3).
 #[test]
 fn overlapping_fogs_add_under_spectral_tracking() {
+    let sphere = HomogeneousMedium {
+        sigma_a: Rgb::new(0.02, 0.06, 0.01),
+        sigma_s: Rgb::BLACK,
+        emission: Rgb::BLACK,
+        phase: PhaseFunction::Isotropic,
+        region: Region::Sphere {
+            world_to_local: Affine3A::IDENTITY,
+            center: Vec3::new(6.0, 4.0, 0.0),
+            radius: 8.0,
+        },
+    };
     let media = [
         Medium::HeightFog(fog(Rgb::new(0.05, 0.12, 0.3), Rgb::BLACK, 0.0, 4.0)),
         Medium::HeightFog(fog(Rgb::splat(0.03), Rgb::BLACK, 10.0, 1e4)),
+        Medium::Homogeneous(sphere),
     ];
     let n = 40_000;
     for (name, y0, d) in rays() {
         let ray = Ray::new(Vec3::new(0.0, y0, 0.0), d);
         let t_max = 20.0;
-        let want = (media[0].optical_depth(&ray, 0.0, t_max).unwrap()
-            + media[1].optical_depth(&ray, 0.0, t_max).unwrap())
-        .exp_neg();
+        let want = media
+            .iter()
+            .map(|m| m.optical_depth(&ray, 0.0, t_max).unwrap())
+            .fold(Rgb::BLACK, |a, b| a + b)
+            .exp_neg();
         let mut acc = Accumulator::default();
         let mut sampler = Sampler::from_seed(11);
         for _ in 0..n {
