@@ -99,25 +99,47 @@ fn main() {
         Command::Info(args) => run_info(args),
         Command::Airlight(args) => run_airlight(args),
     };
-    if let Err(e) = result {
-        eprintln!("error: {e}");
-        std::process::exit(e.exit_code());
+    match result {
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(e.exit_code());
+        }
     }
 }
 
-fn run_info(args: InfoArgs) -> Result<()> {
+/// Exit code of a render stopped by Ctrl-C or SIGTERM after saving its finished
+/// passes (128 + SIGINT, as shells report an interrupted command).
+const EXIT_INTERRUPTED: i32 = 130;
+
+/// Largest accepted `--threads`.
+const MAX_THREADS: usize = 1024;
+
+fn run_info(args: InfoArgs) -> Result<i32> {
     let report = brume::volume::info_report(&args.file, args.json)?;
     print!("{report}");
     if !report.ends_with('\n') {
         println!();
     }
-    Ok(())
+    // The report lists damaged grids beside the good ones; scripts still need a
+    // failing exit code for a damaged file (an unsupported grid type is fine).
+    let file = brume::volume::VdbFile::open(&args.file)?;
+    for name in file.grid_names() {
+        if let Err(e @ brume::volume::VolumeError::CorruptGrid { .. }) = file.load_float_grid(&name)
+        {
+            return Err(e.into());
+        }
+    }
+    Ok(0)
 }
 
-fn run_airlight(args: AirlightArgs) -> Result<()> {
+fn run_airlight(args: AirlightArgs) -> Result<i32> {
     use brume::airlight::{AirlightMode, AirlightOptions};
-    if args.threads == Some(0) {
-        return Err(argument("--threads", "must be at least 1"));
+    if args.threads == Some(0) || args.threads.is_some_and(|t| t > MAX_THREADS) {
+        return Err(argument(
+            "--threads",
+            &format!("must be between 1 and {MAX_THREADS}"),
+        ));
     }
     let report = brume::airlight::run(&AirlightOptions {
         out: Some(args.out),
@@ -138,7 +160,7 @@ fn run_airlight(args: AirlightArgs) -> Result<()> {
     for f in &report.files {
         println!("wrote {}", f.display());
     }
-    Ok(())
+    Ok(0)
 }
 
 fn argument(name: &str, message: &str) -> Error {
@@ -148,7 +170,7 @@ fn argument(name: &str, message: &str) -> Error {
     }
 }
 
-fn run_render(args: RenderArgs) -> Result<()> {
+fn run_render(args: RenderArgs) -> Result<i32> {
     let mut scene = brume::scene::load(&args.scene)?;
     if let Some(spp) = args.spp {
         if spp == 0 {
@@ -164,6 +186,13 @@ fn run_render(args: RenderArgs) -> Result<()> {
     }
     if args.threads == Some(0) {
         return Err(argument("--threads", "must be at least 1"));
+    }
+    // Spawning a huge pool takes minutes and ignores Ctrl-C; no machine needs it.
+    if args.threads.is_some_and(|t| t > MAX_THREADS) {
+        return Err(argument(
+            "--threads",
+            &format!("must be at most {MAX_THREADS}"),
+        ));
     }
     let time_budget = match args.time {
         Some(t) if !(t.is_finite() && t > 0.0) => {
@@ -190,13 +219,14 @@ fn run_render(args: RenderArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
     image_io::check_writable(&exr_path)?;
     image_io::check_writable(&png_path)?;
+    check_memory(&scene, &args.scene)?;
 
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     // A second signal exits at once; the first asks the render to stop and save.
     let _ = ctrlc::set_handler(move || {
         if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
+            std::process::exit(EXIT_INTERRUPTED);
         }
     });
     let show = !args.quiet && std::io::stderr().is_terminal();
@@ -213,7 +243,39 @@ fn run_render(args: RenderArgs) -> Result<()> {
     if !args.quiet {
         report(&out, &exr_path, &png_path);
     }
-    Ok(())
+    if out.image.partial {
+        // Said even with --quiet: the caller must know the image is not the full render.
+        eprintln!(
+            "interrupted: saved the {} spp finished before the stop to {} and {}",
+            out.image.spp,
+            exr_path.display(),
+            png_path.display()
+        );
+        return Ok(EXIT_INTERRUPTED);
+    }
+    Ok(0)
+}
+
+/// Refuses an image too large for this machine before rendering: a failed
+/// allocation mid-render would abort the process instead of giving an error.
+fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let bytes = brume::render::peak_bytes(w, h);
+    // Reserving touches no page, so the probe itself costs nothing.
+    let fits = usize::try_from(bytes)
+        .ok()
+        .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
+    if fits {
+        return Ok(());
+    }
+    Err(Error::Scene {
+        file: file.to_path_buf(),
+        field: "camera.resolution".into(),
+        message: format!(
+            "a {w}x{h} image needs {:.1} GB of memory, more than this machine can give",
+            bytes as f64 / 1e9
+        ),
+    })
 }
 
 fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
@@ -221,7 +283,7 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
     eprintln!(
         "{} {}x{} at {} spp in {:.2} s ({:.2} M samples/s) -> {} , {}",
         if out.image.partial {
-            "interrupted:"
+            "stopped early:"
         } else {
             "rendered"
         },

@@ -11,7 +11,7 @@ use crate::integrator::{li, Scene};
 use crate::sampling::Sampler;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 /// Rows per parallel work item.
@@ -52,6 +52,49 @@ struct Pixel {
     nonfinite: u32,
 }
 
+/// Bytes a `width`×`height` render holds at its peak: film, pass, image and PNG bytes.
+pub fn peak_bytes(width: u32, height: u32) -> u64 {
+    let per_pixel = 2 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3;
+    width as u64 * height as u64 * per_pixel as u64
+}
+
+impl Pixel {
+    /// Adds one radiance sample; a NaN or infinite one is only counted, so it
+    /// cannot spread into the pixel (or, through filtering, its neighbours).
+    fn add(&mut self, l: Rgb) {
+        if l.is_finite() {
+            self.sum[0] += l.r as f64;
+            self.sum[1] += l.g as f64;
+            self.sum[2] += l.b as f64;
+            self.count += 1;
+        } else {
+            self.nonfinite += 1;
+        }
+    }
+
+    /// Adds another pass's sums for the same pixel.
+    fn merge(&mut self, other: &Pixel) {
+        for c in 0..3 {
+            self.sum[c] += other.sum[c];
+        }
+        self.count += other.count;
+        self.nonfinite += other.nonfinite;
+    }
+
+    /// Mean of the finite samples (black if there were none).
+    fn mean(&self) -> Rgb {
+        if self.count == 0 {
+            return Rgb::BLACK;
+        }
+        let n = self.count as f64;
+        Rgb::new(
+            (self.sum[0] / n) as f32,
+            (self.sum[1] / n) as f32,
+            (self.sum[2] / n) as f32,
+        )
+    }
+}
+
 /// Renders `scene`; stops early (keeping finished passes) once `cancel` is set.
 pub fn render(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -81,11 +124,16 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
         if !budget_left {
             break;
         }
+        if cancel.load(Ordering::Relaxed) {
+            partial = true;
+            break;
+        }
         let count = match options.time_budget {
             Some(_) if !options.spp_is_cap => pass_spp,
             _ => pass_spp.min(options.spp - spp_done),
         };
         let mut pass = vec![Pixel::default(); w * h];
+        let bands_done = AtomicUsize::new(0);
         pass.par_chunks_mut(w * BAND_ROWS)
             .enumerate()
             .for_each(|(band, rows)| {
@@ -96,39 +144,25 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
                     let (x, y) = ((i % w) as u32, (band * BAND_ROWS + i / w) as u32);
                     *px = render_pixel(scene, x, y, spp_done, count);
                 }
+                bands_done.fetch_add(1, Ordering::Relaxed);
                 bar.inc(1);
             });
-        if cancel.load(Ordering::Relaxed) {
+        // A pass cut short is dropped whole, so every pixel of the image has
+        // exactly `spp_done` samples; a pass that finished is kept even if the
+        // stop request came in just after its last band.
+        if bands_done.into_inner() < bands as usize {
             partial = true;
             break;
         }
         for (f, p) in film.iter_mut().zip(&pass) {
-            for c in 0..3 {
-                f.sum[c] += p.sum[c];
-            }
-            f.count += p.count;
-            f.nonfinite += p.nonfinite;
+            f.merge(p);
         }
         spp_done += count;
         bar.set_message(format!("{spp_done} spp"));
     }
     bar.finish_and_clear();
     let nonfinite: u64 = film.iter().map(|p| p.nonfinite as u64).sum();
-    let pixels = film
-        .iter()
-        .map(|p| {
-            if p.count == 0 {
-                Rgb::BLACK
-            } else {
-                let n = p.count as f64;
-                Rgb::new(
-                    (p.sum[0] / n) as f32,
-                    (p.sum[1] / n) as f32,
-                    (p.sum[2] / n) as f32,
-                )
-            }
-        })
-        .collect();
+    let pixels = film.iter().map(Pixel::mean).collect();
     RenderOutput {
         image: Image {
             width: w,
@@ -179,15 +213,41 @@ fn render_pixel(scene: &Scene, x: u32, y: u32, first: u32, count: u32) -> Pixel 
     for s in first..first + count {
         let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
         let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
-        let l = li(scene, ray, &mut sampler);
-        if l.is_finite() {
-            px.sum[0] += l.r as f64;
-            px.sum[1] += l.g as f64;
-            px.sum[2] += l.b as f64;
-            px.count += 1;
-        } else {
-            px.nonfinite += 1;
-        }
+        px.add(li(scene, ray, &mut sampler));
     }
     px
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nonfinite_samples_are_counted_and_left_out() {
+        let mut px = Pixel::default();
+        for l in [
+            Rgb::new(1.0, 2.0, 3.0),
+            Rgb::new(f32::NAN, 0.0, 0.0),
+            Rgb::new(0.0, f32::INFINITY, 0.0),
+            Rgb::new(0.0, 0.0, f32::NEG_INFINITY),
+            Rgb::new(3.0, 2.0, 1.0),
+        ] {
+            px.add(l);
+        }
+        assert_eq!((px.count, px.nonfinite), (2, 3));
+        assert_eq!(px.mean(), Rgb::new(2.0, 2.0, 2.0));
+        let mut film = Pixel::default();
+        film.merge(&px);
+        film.merge(&px);
+        assert_eq!((film.count, film.nonfinite), (4, 6));
+        assert_eq!(film.mean(), Rgb::new(2.0, 2.0, 2.0));
+    }
+
+    #[test]
+    fn a_pixel_of_only_nonfinite_samples_is_black_not_nan() {
+        let mut px = Pixel::default();
+        px.add(Rgb::new(f32::NAN, f32::NAN, f32::NAN));
+        assert_eq!(px.mean(), Rgb::BLACK);
+        assert_eq!(px.nonfinite, 1);
+    }
 }
