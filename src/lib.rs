@@ -6,6 +6,7 @@
 //! The module layout and its dependency order are described in DESIGN.md
 //! (shared with the team) and summarized in README.md.
 
+pub mod airlight;
 pub mod camera;
 pub mod color;
 pub mod error;

@@ -24,6 +24,30 @@ enum Command {
     Render(RenderArgs),
     /// Describe the grids of an OpenVDB file: types, transform, voxel counts, bounds, values, memory.
     Info(InfoArgs),
+    /// Render the airlight demo: targets fading with distance in haze, compared with Koschmieder's law.
+    Airlight(AirlightArgs),
+}
+
+#[derive(clap::Args)]
+struct AirlightArgs {
+    /// Output folder for airlight.exr/.png, airlight.csv, airlight_plot.png and airlight.toml.
+    #[arg(long, default_value = "airlight")]
+    out: PathBuf,
+    /// Meteorological visual range in metres (sigma_t = ln 50 / visibility).
+    #[arg(long, default_value_t = 1000.0)]
+    visibility: f32,
+    /// Samples per pixel.
+    #[arg(long, default_value_t = 64)]
+    spp: u32,
+    /// Image width in pixels (height = width / 5).
+    #[arg(long, default_value_t = 768)]
+    width: u32,
+    /// Emission–absorption air and emissive targets, where Koschmieder's law is exact.
+    #[arg(long)]
+    exact: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
 }
 
 #[derive(clap::Args)]
@@ -73,6 +97,7 @@ fn main() {
     let result = match cli.command {
         Command::Render(args) => run_render(args),
         Command::Info(args) => run_info(args),
+        Command::Airlight(args) => run_airlight(args),
     };
     match result {
         Ok(code) => std::process::exit(code),
@@ -104,6 +129,36 @@ fn run_info(args: InfoArgs) -> Result<i32> {
         {
             return Err(e.into());
         }
+    }
+    Ok(0)
+}
+
+fn run_airlight(args: AirlightArgs) -> Result<i32> {
+    use brume::airlight::{AirlightMode, AirlightOptions};
+    if args.threads == Some(0) || args.threads.is_some_and(|t| t > MAX_THREADS) {
+        return Err(argument(
+            "--threads",
+            &format!("must be between 1 and {MAX_THREADS}"),
+        ));
+    }
+    let report = brume::airlight::run(&AirlightOptions {
+        out: Some(args.out),
+        visibility: args.visibility,
+        spp: args.spp,
+        width: args.width,
+        mode: if args.exact {
+            AirlightMode::EmissionAbsorption
+        } else {
+            AirlightMode::Sky
+        },
+        seed: 0,
+        threads: args.threads,
+        progress: std::io::stderr().is_terminal(),
+    })?;
+    print!("{}", report.table);
+    println!("rendered in {:.2} s", report.render_seconds);
+    for f in &report.files {
+        println!("wrote {}", f.display());
     }
     Ok(0)
 }

@@ -8,12 +8,14 @@
 
 pub mod blackbody;
 pub mod grid;
+pub mod height_fog;
 pub mod homogeneous;
 pub mod majorant_grid;
 pub mod phase;
 pub mod region;
 
 pub use grid::{GridEmission, GridMedium, GridMediumParams, MajorantMode};
+pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
@@ -66,6 +68,8 @@ impl MajorantSegment {
 pub enum MajorantIter {
     /// At most one segment.
     Single(Option<MajorantSegment>),
+    /// The pieces of a height fog.
+    Fog(height_fog::FogSegments),
     /// A DDA over the majorant cells of a grid medium.
     Grid(grid::GridMajorants),
 }
@@ -76,6 +80,7 @@ impl Iterator for MajorantIter {
     fn next(&mut self) -> Option<MajorantSegment> {
         match self {
             MajorantIter::Single(s) => s.take(),
+            MajorantIter::Fog(f) => f.next(),
             MajorantIter::Grid(g) => g.next(),
         }
     }
@@ -86,6 +91,8 @@ impl Iterator for MajorantIter {
 pub enum Medium {
     /// Constant coefficients inside a region.
     Homogeneous(HomogeneousMedium),
+    /// Exponential height fog filling all space.
+    HeightFog(HeightFog),
     /// Density from a sparse grid (OpenVDB), tracked over a majorant grid.
     Grid(std::sync::Arc<GridMedium>),
 }
@@ -96,6 +103,7 @@ impl Medium {
     pub fn properties(&self, p: Vec3) -> MediumProperties {
         match self {
             Medium::Homogeneous(m) => m.properties(p),
+            Medium::HeightFog(m) => m.properties(p),
             Medium::Grid(m) => m.properties(p),
         }
     }
@@ -105,6 +113,7 @@ impl Medium {
     pub fn majorants(&self, ray: &Ray, t_max: f32) -> MajorantIter {
         match self {
             Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
+            Medium::HeightFog(m) => MajorantIter::Fog(m.majorants(ray, t_max)),
             Medium::Grid(m) => MajorantIter::Grid(m.majorants(ray, t_max)),
         }
     }
@@ -114,6 +123,7 @@ impl Medium {
     pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Option<Rgb> {
         match self {
             Medium::Homogeneous(m) => Some(m.optical_depth(ray, t0, t1)),
+            Medium::HeightFog(m) => Some(m.optical_depth(ray, t0, t1)),
             Medium::Grid(_) => None,
         }
     }
@@ -122,6 +132,7 @@ impl Medium {
     pub fn is_emissive(&self) -> bool {
         match self {
             Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
+            Medium::HeightFog(m) => m.is_emissive(),
             Medium::Grid(m) => m.is_emissive(),
         }
     }

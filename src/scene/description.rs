@@ -357,6 +357,38 @@ pub enum MediumDesc {
         #[serde(default)]
         transform: Option<TransformDesc>,
     },
+    /// Exponential height fog σt(h) = σt0·exp(-(h - height)/scale_height), everywhere.
+    HeightFog {
+        /// Absorption coefficient at `height` (1/m).
+        #[serde(default)]
+        sigma_a: Option<Color>,
+        /// Scattering coefficient at `height` (1/m).
+        #[serde(default)]
+        sigma_s: Option<Color>,
+        /// Extinction coefficient at `height` (1/m), with `albedo`.
+        #[serde(default)]
+        sigma_t: Option<Color>,
+        /// Meteorological visual range at `height` (m): σt0 = ln(50)/visibility, grey.
+        #[serde(default)]
+        visibility: Option<f32>,
+        /// Single-scattering albedo, with `sigma_t` or `visibility` (default 1).
+        #[serde(default)]
+        albedo: Option<Color>,
+        /// Emitted radiance Le (the source term is σa·Le).
+        #[serde(default)]
+        emission: Option<Color>,
+        /// Phase function.
+        #[serde(default)]
+        phase: Option<PhaseDesc>,
+        /// Reference height h0 along `up` (m).
+        #[serde(default)]
+        height: f32,
+        /// Scale height H (m): the density falls by e every H upward.
+        scale_height: f32,
+        /// Up axis (default [0, 1, 0]).
+        #[serde(default = "default_up")]
+        up: [f32; 3],
+    },
     /// Density from an OpenVDB grid (see `scene::vdb`).
     Vdb(super::vdb::VdbDesc),
 }

@@ -159,6 +159,7 @@ pub(crate) fn build_medium(
                 region: build_region(bounds.as_ref(), *global, transform.as_ref(), field, check)?,
             }))
         }
+        MediumDesc::HeightFog { .. } => super::fog::build_height_fog(desc, field, check),
         MediumDesc::Vdb(vdb) => super::vdb::build_vdb_medium(vdb, field, check, base),
     }
 }

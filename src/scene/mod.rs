@@ -2,6 +2,7 @@
 //! that name the file and field, and building the runtime `Scene`.
 
 pub mod description;
+mod fog;
 mod media;
 mod shapes;
 mod validate;

@@ -1,0 +1,126 @@
+//! The airlight demo in its exact configuration: an absorbing, emitting
+//! global medium (σs = 0, emission Le) and emissive targets, where
+//! Koschmieder's law L(d) = L0·e^(-σa·d) + Le·(1 - e^(-σa·d)) holds exactly.
+//!
+//! Each camera sample either reaches the target (value L0, probability
+//! T = e^(-σa·d)) or is absorbed on the way (value Le), so a target's mean over
+//! N samples has standard error |L0 - Le|·√(T(1-T)/N): the tolerances below
+//! are k = 4 of those (two-sided p ≈ 6e-5 each, 16 targets), and k = 4 of the
+//! fit's own standard error for σt.
+
+use brume::airlight::{koschmieder, run, AirlightMode, AirlightOptions};
+
+#[test]
+fn exact_airlight_measurements_follow_koschmieder() {
+    let dir = tempfile::tempdir().unwrap();
+    let spp = 16;
+    let options = AirlightOptions {
+        out: Some(dir.path().to_path_buf()),
+        visibility: 800.0,
+        spp,
+        width: 192,
+        mode: AirlightMode::EmissionAbsorption,
+        seed: 5,
+        threads: None,
+        progress: false,
+    };
+    let report = run(&options).expect("demo runs");
+    let (l0_bright, l0_dark, le) = report.exact.expect("exact mode");
+    let sigma = report.sigma_t_true;
+    assert!((sigma - 50f64.ln() / 800.0).abs() < 1e-12);
+    // The horizon is the medium's own emission: every sample is absorbed before escaping.
+    assert!(report.horizon.pixels > 50, "{report:?}");
+    assert!(
+        (report.horizon.mean.luminance() as f64 - le).abs() < 1e-5,
+        "{}",
+        report.table
+    );
+    for row in &report.rows {
+        for (m, l0) in [(&row.bright, l0_bright), (&row.dark, l0_dark)] {
+            assert!(
+                m.pixels >= 20,
+                "too few pixels at {} m: {}",
+                row.distance,
+                m.pixels
+            );
+            let t = (-sigma * m.distance).exp();
+            let want = koschmieder(l0, le, sigma, m.distance);
+            let n = (m.pixels * spp as usize) as f64;
+            let se = (l0 - le).abs() * (t * (1.0 - t) / n).sqrt();
+            let got = m.mean.luminance() as f64;
+            assert!(
+                (got - want).abs() <= 4.0 * se + 1e-5,
+                "target at {} m (L0 = {l0}): {got} vs Koschmieder {want} ± {se}\n{}",
+                row.distance,
+                report.table
+            );
+        }
+    }
+    assert!(report.fit_rows >= 4, "{}", report.table);
+    assert!(
+        (report.sigma_t_fit - sigma).abs() <= 4.0 * report.sigma_t_fit_std_error,
+        "fitted σt {} ± {} vs true {sigma}\n{}",
+        report.sigma_t_fit,
+        report.sigma_t_fit_std_error,
+        report.table
+    );
+    for name in [
+        "airlight.exr",
+        "airlight.png",
+        "airlight.csv",
+        "airlight_plot.png",
+        "airlight.toml",
+    ] {
+        assert!(dir.path().join(name).is_file(), "{name} missing");
+    }
+    let csv = std::fs::read_to_string(dir.path().join("airlight.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + report.rows.len());
+}
+
+#[test]
+fn bad_airlight_options_are_rejected() {
+    let base = AirlightOptions {
+        out: None,
+        ..AirlightOptions::default()
+    };
+    for options in [
+        AirlightOptions {
+            visibility: 0.0,
+            ..base.clone()
+        },
+        AirlightOptions {
+            visibility: f32::NAN,
+            ..base.clone()
+        },
+        AirlightOptions {
+            spp: 0,
+            ..base.clone()
+        },
+    ] {
+        assert!(run(&options).is_err());
+    }
+}
+
+/// The `brume airlight` subcommand writes its files and rejects a bad visibility with exit code 2.
+#[test]
+fn airlight_subcommand_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let output = assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .args([
+            "airlight", "--exact", "--width", "64", "--spp", "2", "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{output:?}");
+    assert!(String::from_utf8_lossy(&output.stdout).contains("sigma_t fitted"));
+    assert!(out.join("airlight_plot.png").is_file());
+    assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .args(["airlight", "--visibility", "-5", "--out"])
+        .arg(dir.path().join("bad"))
+        .assert()
+        .code(2);
+}
