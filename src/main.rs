@@ -43,8 +43,11 @@ struct AirlightArgs {
     #[arg(long, default_value_t = 768)]
     width: u32,
     /// Emission–absorption air and emissive targets, where Koschmieder's law is exact.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "single")]
     exact: bool,
+    /// A zenith sun over a scattering slab with single scattering only, where Koschmieder's law is exact too.
+    #[arg(long)]
+    single: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -148,6 +151,8 @@ fn run_airlight(args: AirlightArgs) -> Result<i32> {
         width: args.width,
         mode: if args.exact {
             AirlightMode::EmissionAbsorption
+        } else if args.single {
+            AirlightMode::SingleScattering
         } else {
             AirlightMode::Sky
         },

@@ -124,3 +124,43 @@ fn airlight_subcommand_runs() {
         .assert()
         .code(2);
 }
+
+/// The single-scattering configuration: a zenith sun over a scattering slab,
+/// one scattering event per path. On a horizontal line of sight at the eye's
+/// height the source σs p E e^(-σt h_top) is constant, so Koschmieder holds
+/// exactly with L_air = α E/(4π) e^(-σt h_top) (isotropic phase): the horizon
+/// must show that value, and the fitted σt must lie within 4 of its standard
+/// errors of the true one.
+#[test]
+fn single_scattering_airlight_fits_the_true_extinction() {
+    use brume::airlight::{SLAB_TOP, SS_ALBEDO, SS_IRRADIANCE};
+    let options = AirlightOptions {
+        out: None,
+        visibility: 1000.0,
+        spp: 16,
+        width: 256,
+        mode: AirlightMode::SingleScattering,
+        seed: 9,
+        threads: None,
+        progress: false,
+    };
+    let report = run(&options).expect("demo runs");
+    let sigma = report.sigma_t_true;
+    let l_air = SS_ALBEDO as f64 * SS_IRRADIANCE as f64 / (4.0 * std::f64::consts::PI)
+        * (-sigma * SLAB_TOP as f64).exp();
+    let horizon = report.horizon.mean.luminance() as f64;
+    let horizon_se = report.horizon.std_error;
+    assert!(
+        (horizon - l_air).abs() <= 4.0 * horizon_se + 1e-4 * l_air,
+        "L_air {horizon} ± {horizon_se} vs {l_air}\n{}",
+        report.table
+    );
+    assert!(report.fit_rows >= 4, "{}", report.table);
+    assert!(
+        (report.sigma_t_fit - sigma).abs() <= 4.0 * report.sigma_t_fit_std_error,
+        "fitted σt {} ± {} vs true {sigma}\n{}",
+        report.sigma_t_fit,
+        report.sigma_t_fit_std_error,
+        report.table
+    );
+}

@@ -47,6 +47,10 @@ pub enum AirlightMode {
     Sky,
     /// Absorbing, emitting global medium and emissive targets: Koschmieder exactly.
     EmissionAbsorption,
+    /// A sun at the zenith over a scattering slab, single scattering only: on
+    /// horizontal lines of sight the in-scattered source is constant, so
+    /// Koschmieder holds exactly with L_air = α p E e^(-σt·SLAB_TOP).
+    SingleScattering,
 }
 
 /// Settings of one demo run.
@@ -139,6 +143,13 @@ const EA_BRIGHT: f32 = 3.0;
 const EA_DARK: f32 = 0.2;
 const EA_EMISSION: f32 = 1.0;
 
+/// Sun irradiance in `SingleScattering` mode.
+pub const SS_IRRADIANCE: f32 = 3.0;
+/// Single-scattering albedo of the haze in `SingleScattering` mode.
+pub const SS_ALBEDO: f32 = 0.9;
+/// Height of the haze slab's top above the eye in `SingleScattering` mode (m).
+pub const SLAB_TOP: f32 = 300.0;
+
 /// Image geometry: column pitch and target size in pixels.
 struct Layout {
     width: u32,
@@ -213,6 +224,17 @@ pub fn scene_text(options: &AirlightOptions) -> String {
                 options.spp, options.seed
             );
         }
+        AirlightMode::SingleScattering => {
+            let _ = writeln!(
+                s,
+                "[integrator]\nspp = {}\nmax_depth = 1\nmax_scatter_depth = 1\nseed = {}\n\n\
+                 [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, 0.0]\nirradiance = {SS_IRRADIANCE}\nangular_radius = 0.0\n\n\
+                 # Isotropic haze in a slab {SLAB_TOP} m deep above the eye, unbounded sideways.\n\
+                 [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t}\nalbedo = {SS_ALBEDO}\n\
+                 bounds = {{ type = \"box\", min = [-1.0e6, -1.0e4, -1.0e6], max = [1.0e6, {SLAB_TOP}, 1.0e6] }}\n",
+                options.spp, options.seed
+            );
+        }
         AirlightMode::EmissionAbsorption => {
             let _ = writeln!(
                 s,
@@ -236,8 +258,12 @@ pub fn scene_text(options: &AirlightOptions) -> String {
             let n = crate::math::Vec3::new(0.0, 0.3, 1.0).normalize();
             let size = d * side_tan;
             let material = match (options.mode, k) {
-                (AirlightMode::Sky, 0) => "{ type = \"diffuse\", albedo = 0.8 }".to_string(),
-                (AirlightMode::Sky, _) => "{ type = \"diffuse\", albedo = 0.04 }".to_string(),
+                (AirlightMode::Sky | AirlightMode::SingleScattering, 0) => {
+                    "{ type = \"diffuse\", albedo = 0.8 }".to_string()
+                }
+                (AirlightMode::Sky | AirlightMode::SingleScattering, _) => {
+                    "{ type = \"diffuse\", albedo = 0.04 }".to_string()
+                }
                 (AirlightMode::EmissionAbsorption, _) => {
                     let l = if k == 0 { EA_BRIGHT } else { EA_DARK };
                     format!("{{ type = \"diffuse\", albedo = 0.0 }}\nemission = {l}")
