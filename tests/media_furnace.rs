@@ -5,25 +5,6 @@ mod common;
 
 use common::*;
 
-fn furnace_scene(medium: &str, env: f32) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 35.0
-        resolution = [6, 6]
-        [integrator]
-        max_depth = 100000
-        rr_depth = 100000
-        [[light]]
-        type = "environment"
-        radiance = {env}
-        {medium}
-        "#
-    )
-}
-
 /// (1024 samples per pixel: chromatic spectral-tracking weights are skewed,
 /// and the standard error of a mean needs enough samples to be trusted.)
 ///

@@ -15,25 +15,6 @@ use glam::{DVec3, IVec3};
 use std::path::Path;
 use std::sync::Arc;
 
-fn furnace_scene(medium: &str, env: f32) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 35.0
-        resolution = [6, 6]
-        [integrator]
-        max_depth = 100000
-        rr_depth = 100000
-        [[light]]
-        type = "environment"
-        radiance = {env}
-        {medium}
-        "#
-    )
-}
-
 /// The unit VDB box, centred on the origin, scaled by 1.6 and turned.
 fn vdb_box(fields: &str) -> String {
     format!(

@@ -15,6 +15,29 @@ pub fn scene_from_str(text: &str) -> Scene {
     brume::scene::build(&desc, &file, Path::new(env!("CARGO_MANIFEST_DIR"))).expect("build")
 }
 
+/// A furnace: a camera looking at `medium` (TOML) inside a uniform environment of radiance `env`.
+///
+/// Paths are never cut short (no depth limit or roulette in practice), so
+/// the expected value of every pixel is known in closed form.
+pub fn furnace_scene(medium: &str, env: f32) -> String {
+    format!(
+        r#"
+        [camera]
+        position = [0.0, 0.0, 4.0]
+        look_at = [0.0, 0.0, 0.0]
+        fov = 35.0
+        resolution = [6, 6]
+        [integrator]
+        max_depth = 100000
+        rr_depth = 100000
+        [[light]]
+        type = "environment"
+        radiance = {env}
+        {medium}
+        "#
+    )
+}
+
 /// Mean and standard error of the mean of a set of samples (per channel).
 #[derive(Clone, Copy, Debug)]
 pub struct Estimate {
