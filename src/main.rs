@@ -93,6 +93,9 @@ struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(long, short)]
     quiet: bool,
+    /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
+    #[arg(long, value_name = "X,Y")]
+    debug_pixel: Option<String>,
 }
 
 fn main() {
@@ -209,6 +212,9 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if !args.exposure.is_finite() {
         return Err(argument("--exposure", "must be finite"));
     }
+    if let Some(pixel) = &args.debug_pixel {
+        return debug_pixel(&scene, pixel);
+    }
     let stem = args
         .scene
         .file_stem()
@@ -257,6 +263,69 @@ fn run_render(args: RenderArgs) -> Result<i32> {
             png_path.display()
         );
         return Ok(EXIT_INTERRUPTED);
+    }
+    Ok(0)
+}
+
+/// `--debug-pixel X,Y`: the samples of one pixel, exactly as a full render takes them.
+fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
+    let bad = || {
+        argument(
+            "--debug-pixel",
+            "expected X,Y inside the image, e.g. 120,64",
+        )
+    };
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    let (x, y): (u32, u32) = (
+        x.trim().parse().map_err(|_| bad())?,
+        y.trim().parse().map_err(|_| bad())?,
+    );
+    if x >= scene.camera.width() || y >= scene.camera.height() {
+        return Err(bad());
+    }
+    let spp = scene.settings.spp;
+    let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
+    let (mut finite, mut nonfinite) = (0u32, 0u32);
+    let mut brightest = (0u32, f32::NEG_INFINITY);
+    for s in 0..spp {
+        let l = brume::render::pixel_sample(scene, x, y, s);
+        if !l.is_finite() {
+            nonfinite += 1;
+            println!("sample {s}: non-finite radiance {:?}", l.to_array());
+            continue;
+        }
+        finite += 1;
+        for c in 0..3 {
+            sum[c] += l[c] as f64;
+            sum2[c] += (l[c] as f64).powi(2);
+        }
+        if l.luminance() > brightest.1 {
+            brightest = (s, l.luminance());
+        }
+    }
+    let n = finite.max(1) as f64;
+    let mean = sum.map(|v| v / n);
+    let mut std_error = [0.0; 3];
+    for c in 0..3 {
+        std_error[c] = ((sum2[c] / n - mean[c] * mean[c]).max(0.0) / n).sqrt();
+    }
+    println!(
+        "pixel {x},{y}: {spp} samples ({nonfinite} non-finite), seed {}",
+        scene.settings.seed
+    );
+    println!(
+        "mean radiance  {:.6} {:.6} {:.6}",
+        mean[0], mean[1], mean[2]
+    );
+    println!(
+        "standard error {:.6} {:.6} {:.6}",
+        std_error[0], std_error[1], std_error[2]
+    );
+    if finite > 0 {
+        println!(
+            "brightest sample {} (luminance {:.6})",
+            brightest.0, brightest.1
+        );
     }
     Ok(0)
 }

@@ -211,11 +211,16 @@ fn progress_bar(options: &RenderOptions, bands: u64) -> ProgressBar {
 fn render_pixel(scene: &Scene, x: u32, y: u32, first: u32, count: u32) -> Pixel {
     let mut px = Pixel::default();
     for s in first..first + count {
-        let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
-        let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
-        px.add(li(scene, ray, &mut sampler));
+        px.add(pixel_sample(scene, x, y, s));
     }
     px
+}
+
+/// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
+pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
+    let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
+    let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+    li(scene, ray, &mut sampler)
 }
 
 #[cfg(test)]

@@ -177,4 +177,30 @@ fn a_good_scene_renders_and_writes_both_files() {
     assert_eq!((w, h), (8, 8));
     assert!(pixels.iter().any(|p| p.max_channel() > 0.0));
     assert!(dir.path().join("tiny.png").exists());
+
+    // `--debug-pixel` replays exactly the samples the render took for that pixel.
+    let output = Command::cargo_bin("brume")
+        .unwrap()
+        .current_dir(dir.path())
+        .args(["render", "--spp", "2", "--debug-pixel", "3,4"])
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("mean radiance"))
+        .expect("mean line");
+    let replayed: Vec<f32> = line
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let rendered = pixels[4 * w + 3].to_array();
+    for c in 0..3 {
+        assert!(
+            (replayed[c] - rendered[c]).abs() <= 1e-5 + 1e-4 * rendered[c].abs(),
+            "{stdout} vs {rendered:?}"
+        );
+    }
 }
