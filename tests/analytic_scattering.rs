@@ -206,7 +206,7 @@ struct Beam {
 
 impl Beam {
     /// The scene, with shadow-ray transmittance by `estimator` (auto, ratio, residual_ratio, delta).
-    fn scene(&self, estimator: &str) -> String {
+    fn scene(&self, estimator: &str, equiangular: bool) -> String {
         let light = match self.spot {
             None => format!(
                 "type = \"point\"\nposition = {}\nintensity = {}",
@@ -228,6 +228,7 @@ impl Beam {
             [integrator]
             max_scatter_depth = 1
             transmittance = "{estimator}"
+            equiangular = {equiangular}
             [[light]]
             {light}
             [[medium]]
@@ -355,18 +356,25 @@ fn point_light_single_scattering_matches_quadrature() {
             .iter()
             .zip(&beam.sigma_s)
             .all(|(a, s)| a + s == beam.sigma_a[0] + beam.sigma_s[0]);
-        // Shadow rays by closed form and by every tracking estimator (delta on grey media only).
-        for estimator in ["auto", "ratio", "residual_ratio", "delta"] {
+        // Shadow rays by closed form and by every tracking estimator (delta on grey
+        // media only), with equiangular sampling; and once with free flight alone.
+        for (estimator, equiangular) in [
+            ("auto", true),
+            ("ratio", true),
+            ("residual_ratio", true),
+            ("delta", true),
+            ("auto", false),
+        ] {
             if estimator == "delta" && !grey {
                 continue;
             }
-            let scene = scene_from_str(&beam.scene(estimator));
+            let scene = scene_from_str(&beam.scene(estimator, equiangular));
             let est = estimate_li(&scene, Ray::new(Vec3::ZERO, Vec3::X), 2 * N, 120 + k as u64);
             assert_estimate(
                 &est,
                 expected,
                 &format!(
-                    "point light σa={:?} σs={:?} g={}, {estimator} shadow rays",
+                    "point light σa={:?} σs={:?} g={}, {estimator} shadow rays, equiangular {equiangular}",
                     beam.sigma_a, beam.sigma_s, beam.g
                 ),
             );
@@ -396,15 +404,17 @@ fn spot_light_single_scattering_matches_quadrature() {
         },
     ];
     for (k, beam) in beams.iter().enumerate() {
-        let scene = scene_from_str(&beam.scene("auto"));
-        let est = estimate_li(&scene, Ray::new(Vec3::ZERO, Vec3::X), 2 * N, 140 + k as u64);
-        assert_estimate(
-            &est,
-            beam.single_scattering(),
-            &format!(
-                "spot light σa={:?} σs={:?} g={}",
-                beam.sigma_a, beam.sigma_s, beam.g
-            ),
-        );
+        for equiangular in [true, false] {
+            let scene = scene_from_str(&beam.scene("auto", equiangular));
+            let est = estimate_li(&scene, Ray::new(Vec3::ZERO, Vec3::X), 2 * N, 140 + k as u64);
+            assert_estimate(
+                &est,
+                beam.single_scattering(),
+                &format!(
+                    "spot light σa={:?} σs={:?} g={}, equiangular {equiangular}",
+                    beam.sigma_a, beam.sigma_s, beam.g
+                ),
+            );
+        }
     }
 }
