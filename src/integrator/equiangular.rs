@@ -67,23 +67,42 @@ pub(super) fn segment(scene: &Scene, ray: &Ray, t_surface: f32) -> Option<Segmen
     })
 }
 
-/// Transmittance from the segment's origin to `t` and total σt at `t` (closed forms).
-fn closed_form(scene: &Scene, ray: &Ray, t: f32) -> (Rgb, Rgb) {
-    let p = ray.at(t);
-    let mut tau = Rgb::BLACK;
-    let mut sigma_t = Rgb::BLACK;
-    for medium in &scene.media {
-        tau += medium.optical_depth(ray, 0.0, t).unwrap_or(Rgb::BLACK);
-        let props = medium.properties(p);
-        sigma_t += props.sigma_a + props.sigma_s;
-    }
-    (tau.exp_neg(), sigma_t)
+/// What the media contribute at parameter `t` of a segment's ray (closed forms).
+struct MediaAt {
+    /// Transmittance from the ray origin to `t`.
+    tr: Rgb,
+    /// Total extinction at `t`.
+    sigma_t: Rgb,
+    /// Σ σs·p toward the light, when a light direction was given.
+    in_scatter: Rgb,
 }
 
-/// The density of free-flight sampling producing a vertex at `t`, as used in the MIS weights.
-fn free_flight_density(scene: &Scene, ray: &Ray, t: f32) -> f32 {
-    let (tr, sigma_t) = closed_form(scene, ray, t);
-    (tr * sigma_t).average()
+impl MediaAt {
+    /// Evaluates every medium once at `t`; `toward_light` adds the in-scattering toward it.
+    fn new(scene: &Scene, ray: &Ray, t: f32, toward_light: Option<Vec3>) -> MediaAt {
+        let p = ray.at(t);
+        let (mut tau, mut sigma_t, mut in_scatter) = (Rgb::BLACK, Rgb::BLACK, Rgb::BLACK);
+        for medium in &scene.media {
+            tau += medium.optical_depth(ray, 0.0, t).unwrap_or(Rgb::BLACK);
+            let props = medium.properties(p);
+            sigma_t += props.sigma_a + props.sigma_s;
+            if let Some(wi) = toward_light {
+                if !props.sigma_s.is_black() {
+                    in_scatter += props.sigma_s * props.phase.eval(ray.direction, wi);
+                }
+            }
+        }
+        MediaAt {
+            tr: tau.exp_neg(),
+            sigma_t,
+            in_scatter,
+        }
+    }
+
+    /// The density of free-flight sampling producing a vertex here, as used in the MIS weights.
+    fn free_flight_density(&self) -> f32 {
+        (self.tr * self.sigma_t).average()
+    }
 }
 
 /// MIS weight of a free-flight vertex at `t` whose NEE picked `light_index`.
@@ -108,7 +127,7 @@ pub(super) fn free_flight_weight(
     if eq == 0.0 {
         return 1.0;
     }
-    let ff = free_flight_density(scene, ray, t) / scene.lights.len() as f32;
+    let ff = MediaAt::new(scene, ray, t, None).free_flight_density() / scene.lights.len() as f32;
     ff * ff / (ff * ff + eq * eq)
 }
 
@@ -142,14 +161,8 @@ pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) 
     let Some(ls) = light.sample(p, crate::math::Vec2::ZERO, &scene.geometry) else {
         return Rgb::BLACK;
     };
-    let mut in_scatter = Rgb::BLACK;
-    for medium in &scene.media {
-        let props = medium.properties(p);
-        if !props.sigma_s.is_black() {
-            in_scatter += props.sigma_s * props.phase.eval(ray.direction, ls.wi);
-        }
-    }
-    if in_scatter.is_black() {
+    let media = MediaAt::new(scene, ray, t, Some(ls.wi));
+    if media.in_scatter.is_black() {
         return Rgb::BLACK;
     }
     let shadow = Ray::new(p, ls.wi);
@@ -158,9 +171,8 @@ pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) 
         return Rgb::BLACK;
     }
     let tr_light = scene.transmittance(&shadow, t_light, sampler);
-    let (tr_camera, _) = closed_form(scene, ray, t);
     let eq = sample.pdf / segment.point_lights as f32;
-    let ff = free_flight_density(scene, ray, t) / scene.lights.len() as f32;
+    let ff = media.free_flight_density() / scene.lights.len() as f32;
     let weight = eq * eq / (eq * eq + ff * ff);
-    tr_camera * in_scatter * tr_light * ls.radiance * (weight / eq)
+    media.tr * media.in_scatter * tr_light * ls.radiance * (weight / eq)
 }
