@@ -191,28 +191,28 @@ fn huge_compressed_chunk_sizes_are_errors() {
 #[test]
 fn unsupported_value_type_names_grid_and_type_and_other_grids_load() {
     let (name, mut data) = read(&volumes().join("smoke_plume.vdb"));
-    // turn the second grid ('temperature') into a vec3s grid: same length type name
+    // turn the second grid ('temperature') into an int32 grid: same length type name
     let first = find(&data, b"Tree_float_5_4_3");
     let second = first + 16 + find(&data[first + 16..], b"Tree_float_5_4_3");
-    put(&mut data, second, b"Tree_vec3s_5_4_3");
+    put(&mut data, second, b"Tree_int32_5_4_3");
     let dir = tempfile::tempdir().unwrap();
     let patched = dir.path().join(&name);
     std::fs::write(&patched, &data).unwrap();
     let report = info_report(&patched, false).unwrap();
     assert!(
-        report.contains("vec3s") && report.contains("not loadable"),
+        report.contains("int32") && report.contains("not loadable"),
         "{report}"
     );
     assert!(report.contains("active voxels: 147323"), "{report}");
     let file = VdbFile::from_bytes(Path::new(&name), data).unwrap();
     let grids = file.grids();
-    let vec_grid = grids.iter().find(|g| g.value_type == "vec3s").unwrap();
+    let vec_grid = grids.iter().find(|g| g.value_type == "int32").unwrap();
     let err = file
         .load_float_grid(&vec_grid.name)
         .unwrap_err()
         .to_string();
     assert!(
-        err.contains(&name) && err.contains(&vec_grid.name) && err.contains("vec3s"),
+        err.contains(&name) && err.contains(&vec_grid.name) && err.contains("int32"),
         "{err}"
     );
     let other = grids.iter().find(|g| g.value_type == "float").unwrap();

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::{DVec3, IVec3};
 use serde_json::{json, Value};
 
-use super::{FloatGrid, VdbFile, VolumeError};
+use super::{AnyGrid, GridTransform, VdbFile, VolumeError};
 
 /// Describes every grid of a file: type, transform, active voxels, bounds,
 /// value range and memory once loaded. Grids that cannot be loaded are
@@ -35,7 +35,7 @@ fn dvec(v: DVec3) -> Value {
 }
 
 /// World box of the cells of an inclusive index box (voxel centres ±0.5).
-fn world_bbox(grid: &FloatGrid, (lo, hi): (IVec3, IVec3)) -> (DVec3, DVec3) {
+fn world_bbox(transform: &GridTransform, (lo, hi): (IVec3, IVec3)) -> (DVec3, DVec3) {
     let (a, b) = (lo.as_dvec3() - 0.5, hi.as_dvec3() + 0.5);
     let mut min = DVec3::INFINITY;
     let mut max = DVec3::NEG_INFINITY;
@@ -45,7 +45,7 @@ fn world_bbox(grid: &FloatGrid, (lo, hi): (IVec3, IVec3)) -> (DVec3, DVec3) {
             if c & 2 == 0 { a.y } else { b.y },
             if c & 4 == 0 { a.z } else { b.z },
         );
-        let w = grid.transform().index_to_world(p);
+        let w = transform.index_to_world(p);
         min = min.min(w);
         max = max.max(w);
     }
@@ -63,35 +63,72 @@ fn grid_json(file: &VdbFile, d: &super::GridDescriptor) -> Value {
         g["class"] = json!(h.meta("class").unwrap_or("unknown"));
         g["compression"] = json!(compression_names(h.compression));
     }
-    match file.load_float_grid(&d.name) {
+    match file.load_grid(&d.name) {
         Err(e) => g["error"] = json!(e.to_string()),
-        Ok(grid) => {
-            let t = grid.transform();
-            let m = t.index_to_world_matrix();
-            let rows: Vec<Value> = (0..4).map(|r| json!(m.row(r).to_array())).collect();
-            g["transform"] = json!({
-                "map_type": t.map_type(),
-                "voxel_size": dvec(t.voxel_size()),
-                "index_to_world": rows,
-            });
+        Ok(AnyGrid::Float(grid)) => {
+            let facts = Facts {
+                transform: grid.transform(),
+                active: grid.active_voxel_count(),
+                leaves: grid.leaf_count(),
+                tiles: grid.active_tile_count(),
+                bbox: grid.index_bbox_active(),
+                bytes: grid.memory_bytes(),
+            };
+            facts.write(&mut g);
             g["background"] = json!(grid.background());
-            g["active_voxel_count"] = json!(grid.active_voxel_count());
-            g["leaf_count"] = json!(grid.leaf_count());
-            g["active_tile_count"] = json!(grid.active_tile_count());
-            if let Some(bb) = grid.index_bbox_active() {
-                let (wmin, wmax) = world_bbox(&grid, bb);
-                g["index_bbox_active"] = json!({"min": ivec(bb.0), "max": ivec(bb.1)});
-                g["world_bbox"] = json!({"min": dvec(wmin), "max": dvec(wmax)});
-            }
             let (lo, hi) = grid.value_range();
             g["value_range"] = json!([lo, hi]);
-            let bytes = grid.memory_bytes();
-            g["memory_bytes"] = json!(bytes);
-            g["bytes_per_active_voxel"] =
-                json!(bytes as f64 / grid.active_voxel_count().max(1) as f64);
+        }
+        Ok(AnyGrid::Vec3(grid)) => {
+            let facts = Facts {
+                transform: grid.transform(),
+                active: grid.active_voxel_count(),
+                leaves: grid.leaf_count(),
+                tiles: grid.active_tile_count(),
+                bbox: grid.index_bbox_active(),
+                bytes: grid.memory_bytes(),
+            };
+            facts.write(&mut g);
+            g["background"] = json!(grid.background().to_array());
+            let ranges = grid.component_ranges();
+            g["component_ranges"] = json!(ranges.map(|(lo, hi)| [lo, hi]));
+            g["max_abs_lookup"] = json!(grid.max_abs_lookup().to_array());
         }
     }
     g
+}
+
+/// What every loaded grid reports, whatever its value type.
+struct Facts<'a> {
+    transform: &'a GridTransform,
+    active: u64,
+    leaves: usize,
+    tiles: usize,
+    bbox: Option<(IVec3, IVec3)>,
+    bytes: usize,
+}
+
+impl Facts<'_> {
+    fn write(&self, g: &mut Value) {
+        let t = self.transform;
+        let m = t.index_to_world_matrix();
+        let rows: Vec<Value> = (0..4).map(|r| json!(m.row(r).to_array())).collect();
+        g["transform"] = json!({
+            "map_type": t.map_type(),
+            "voxel_size": dvec(t.voxel_size()),
+            "index_to_world": rows,
+        });
+        g["active_voxel_count"] = json!(self.active);
+        g["leaf_count"] = json!(self.leaves);
+        g["active_tile_count"] = json!(self.tiles);
+        if let Some(bb) = self.bbox {
+            let (wmin, wmax) = world_bbox(t, bb);
+            g["index_bbox_active"] = json!({"min": ivec(bb.0), "max": ivec(bb.1)});
+            g["world_bbox"] = json!({"min": dvec(wmin), "max": dvec(wmax)});
+        }
+        g["memory_bytes"] = json!(self.bytes);
+        g["bytes_per_active_voxel"] = json!(self.bytes as f64 / self.active.max(1) as f64);
+    }
 }
 
 fn compression_names(c: u32) -> String {
@@ -150,7 +187,7 @@ fn render_text(r: &Value) -> String {
         for row in t["index_to_world"].as_array().into_iter().flatten() {
             let _ = writeln!(s, "    {}", v(row));
         }
-        let _ = writeln!(s, "  background: {}", g["background"]);
+        let _ = writeln!(s, "  background: {}", v(&g["background"]));
         let _ = writeln!(s, "  active voxels: {}", g["active_voxel_count"]);
         let _ = writeln!(
             s,
@@ -167,11 +204,19 @@ fn render_text(r: &Value) -> String {
                 let _ = writeln!(s, "  index bbox: empty");
             }
         }
-        let _ = writeln!(
-            s,
-            "  value range: {} .. {}",
-            g["value_range"][0], g["value_range"][1]
-        );
+        if let Some(r) = g.get("value_range") {
+            let _ = writeln!(s, "  value range: {} .. {}", r[0], r[1]);
+        }
+        if let Some(r) = g["component_ranges"].as_array() {
+            for (axis, range) in ["x", "y", "z"].iter().zip(r) {
+                let _ = writeln!(s, "  {axis} range: {} .. {}", range[0], range[1]);
+            }
+            let _ = writeln!(
+                s,
+                "  largest |component| a lookup returns: {}",
+                v(&g["max_abs_lookup"])
+            );
+        }
         let _ = writeln!(
             s,
             "  memory: {} bytes ({:.2} bytes per active voxel)",

@@ -27,11 +27,15 @@
 //! * `grid`: the loaded [`FloatGrid`]: 8³ leaf bricks plus constant tiles,
 //!   found through coordinate hash tables, with OpenVDB's `getValue` and
 //!   BoxSampler semantics.
+//! * `vec3`: the loaded [`Vec3Grid`] of a `vec3s`/`vec3d` grid (velocity):
+//!   one float grid per component, split from the interleaved values as the
+//!   tree is read.
 //!
 //! vdb-rs stays a dependency only as an independent cross-check in the tests,
 //! on the files it is known to read correctly. The whole file is read into
 //! memory once by [`VdbFile::open`]; grids are decoded on request.
-//! Float and double grids (5-4-3 trees) load; any other value type gives
+//! Float and double grids (5-4-3 trees) load as [`FloatGrid`], vec3s and
+//! vec3d grids as [`Vec3Grid`]; any other value type gives
 //! [`VolumeError::Unsupported`] naming the grid and type, while the other
 //! grids of the file still load.
 
@@ -45,6 +49,7 @@ mod grid;
 mod info;
 mod transform;
 mod tree;
+mod vec3;
 
 use std::path::{Path, PathBuf};
 
@@ -52,6 +57,7 @@ pub use error::VolumeError;
 pub use grid::{Block, FloatGrid};
 pub use info::info_report;
 pub use transform::GridTransform;
+pub use vec3::Vec3Grid;
 
 use bytes::Reader;
 use error::{FResult, FormatError};
@@ -85,6 +91,20 @@ pub struct VdbFile {
 /// Loads one float grid from a file.
 pub fn load_float_grid(path: &Path, name: &str) -> Result<FloatGrid, VolumeError> {
     VdbFile::open(path)?.load_float_grid(name)
+}
+
+/// Loads one vec3 grid from a file.
+pub fn load_vec3_grid(path: &Path, name: &str) -> Result<Vec3Grid, VolumeError> {
+    VdbFile::open(path)?.load_vec3_grid(name)
+}
+
+/// A grid of either value kind, as `brume info` reports it.
+#[derive(Debug, Clone)]
+pub enum AnyGrid {
+    /// A float or double grid.
+    Float(FloatGrid),
+    /// A vec3s or vec3d grid.
+    Vec3(Vec3Grid),
 }
 
 impl VdbFile {
@@ -170,11 +190,33 @@ impl VdbFile {
 
     /// Loads a float (or double) grid by name into a sparse [`FloatGrid`].
     pub fn load_float_grid(&self, name: &str) -> Result<FloatGrid, VolumeError> {
+        match self.load_grid(name)? {
+            AnyGrid::Float(g) => Ok(g),
+            AnyGrid::Vec3(_) => Err(FormatError::Unsupported(
+                "a vec3 grid where a float grid is needed".into(),
+            )
+            .for_grid(&self.path, name)),
+        }
+    }
+
+    /// Loads a vec3s (or vec3d) grid by name into a sparse [`Vec3Grid`].
+    pub fn load_vec3_grid(&self, name: &str) -> Result<Vec3Grid, VolumeError> {
+        match self.load_grid(name)? {
+            AnyGrid::Vec3(g) => Ok(g),
+            AnyGrid::Float(_) => Err(FormatError::Unsupported(
+                "a float grid where a vec3 grid (vec3s) is needed".into(),
+            )
+            .for_grid(&self.path, name)),
+        }
+    }
+
+    /// Loads a grid of any supported value type by name.
+    pub fn load_grid(&self, name: &str) -> Result<AnyGrid, VolumeError> {
         let d = self.find(name)?;
         self.load(d).map_err(|e| e.for_grid(&self.path, name))
     }
 
-    fn load(&self, d: &Descriptor) -> FResult<FloatGrid> {
+    fn load(&self, d: &Descriptor) -> FResult<AnyGrid> {
         let elem = elem_of(&d.grid_type)?;
         let (header, reader) = self.read_header(d)?;
         let (tree_desc, compression, mut r) = match &d.instance_parent {
@@ -194,14 +236,27 @@ impl VdbFile {
                 (p, ph.compression, pr)
             }
         };
-        let (background, builder) = tree::read_tree(
+        let (background, builders) = tree::read_tree(
             &mut r,
             tree_desc.block_pos,
             compression,
             tree_desc.half,
             elem,
         )?;
-        builder.finish(&d.name, background, header.transform)
+        let mut grids = builders
+            .into_iter()
+            .zip(background)
+            .map(|(b, bg)| b.finish(&d.name, bg, header.transform.clone()))
+            .collect::<FResult<Vec<FloatGrid>>>()?;
+        if grids.len() == 1 {
+            return Ok(AnyGrid::Float(grids.remove(0)));
+        }
+        let components: [FloatGrid; 3] = grids
+            .try_into()
+            .map_err(|_| FormatError::Corrupt("vector grid without three components".into()))?;
+        Vec3Grid::from_components(&d.name, components)
+            .map(AnyGrid::Vec3)
+            .ok_or_else(|| FormatError::Corrupt("vector components disagree".into()))
     }
 }
 
@@ -215,12 +270,14 @@ fn elem_of(grid_type: &str) -> FResult<Elem> {
     match grid_type {
         "Tree_float_5_4_3" => Ok(Elem::F32),
         "Tree_double_5_4_3" => Ok(Elem::F64),
+        "Tree_vec3s_5_4_3" => Ok(Elem::Vec3F32),
+        "Tree_vec3d_5_4_3" => Ok(Elem::Vec3F64),
         t if t.ends_with("_5_4_3") => Err(FormatError::Unsupported(format!(
-            "value type '{}' (grid type {t}); brume loads float and double grids",
+            "value type '{}' (grid type {t}); brume loads float, double, vec3s and vec3d grids",
             value_type_of(t)
         ))),
         t => Err(FormatError::Unsupported(format!(
-            "grid type {t}; brume loads float and double grids with 5-4-3 trees"
+            "grid type {t}; brume loads float, double, vec3s and vec3d grids with 5-4-3 trees"
         ))),
     }
 }

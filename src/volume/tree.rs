@@ -17,20 +17,46 @@ pub(crate) enum Elem {
     F32,
     /// 64-bit float, narrowed to f32 at load.
     F64,
+    /// Three 32-bit floats (`vec3s`).
+    Vec3F32,
+    /// Three 64-bit floats (`vec3d`), narrowed to f32 at load.
+    Vec3F64,
 }
 
+/// Most components a value has (vec3).
+pub(crate) const MAX_LANES: usize = 3;
+
 impl Elem {
+    /// Bytes of one component.
     fn size(self) -> usize {
         match self {
-            Elem::F32 => 4,
-            Elem::F64 => 8,
+            Elem::F32 | Elem::Vec3F32 => 4,
+            Elem::F64 | Elem::Vec3F64 => 8,
         }
     }
 
+    /// Components per value: 1 for scalars, 3 for vectors.
+    pub(crate) fn lanes(self) -> usize {
+        match self {
+            Elem::F32 | Elem::F64 => 1,
+            Elem::Vec3F32 | Elem::Vec3F64 => 3,
+        }
+    }
+
+    /// Reads one whole value (all its components).
+    fn read_value(self, r: &mut Reader) -> FResult<[f32; MAX_LANES]> {
+        let mut v = [0.0; MAX_LANES];
+        for c in v.iter_mut().take(self.lanes()) {
+            *c = self.read(r)?;
+        }
+        Ok(v)
+    }
+
+    /// Reads one component.
     fn read(self, r: &mut Reader) -> FResult<f32> {
-        Ok(match self {
-            Elem::F32 => r.f32()?,
-            Elem::F64 => r.f64()? as f32,
+        Ok(match self.size() {
+            4 => r.f32()?,
+            _ => r.f64()? as f32,
         })
     }
 }
@@ -44,16 +70,20 @@ mod meta {
     pub const NO_MASK_AND_ALL_VALS: i8 = 6;
 }
 
-/// State shared while reading one tree.
+/// State shared while reading one tree. Vector values are split into one
+/// builder per component (lane) as they are read; the lanes share topology.
 struct TreeReader {
     compression: u32,
     half: bool,
     elem: Elem,
-    background: f32,
+    lanes: usize,
+    background: [f32; MAX_LANES],
     raw: Vec<u8>,
     temp: Vec<f32>,
+    /// Values of the node being read, interleaved by lane.
+    values: Vec<f32>,
     node_values: Vec<f32>,
-    out: GridBuilder,
+    out: Vec<GridBuilder>,
 }
 
 fn bit(mask: &[u64], n: usize) -> bool {
@@ -64,14 +94,15 @@ fn popcount(mask: &[u64]) -> usize {
     mask.iter().map(|w| w.count_ones() as usize).sum()
 }
 
-/// Reads the tree starting at the reader (just after the transform).
+/// Reads the tree starting at the reader (just after the transform): the
+/// background and one builder per component of the value type.
 pub(crate) fn read_tree(
     r: &mut Reader,
     block_pos: u64,
     compression: u32,
     half: bool,
     elem: Elem,
-) -> FResult<(f32, GridBuilder)> {
+) -> FResult<(Vec<f32>, Vec<GridBuilder>)> {
     let at = r.pos();
     let buffer_count = r.i32()?;
     if buffer_count != 1 {
@@ -80,23 +111,30 @@ pub(crate) fn read_tree(
             format!("tree has {buffer_count} buffers, expected 1"),
         ));
     }
-    let background = elem.read(r)?;
+    let lanes = elem.lanes();
+    let background = elem.read_value(r)?;
     let mut t = TreeReader {
         compression,
         half,
         elem,
+        lanes,
         background,
         raw: Vec::new(),
         temp: Vec::new(),
+        values: Vec::new(),
         node_values: Vec::new(),
-        out: GridBuilder::default(),
+        out: (0..lanes).map(|_| GridBuilder::default()).collect(),
     };
     let num_tiles = r.u32()?;
     let num_children = r.u32()?;
-    r.check_fits(num_tiles as u64, 13 + elem.size() as u64, "root tiles")?;
+    r.check_fits(
+        num_tiles as u64,
+        13 + (lanes * elem.size()) as u64,
+        "root tiles",
+    )?;
     for _ in 0..num_tiles {
         let origin = read_origin(r, 12)?;
-        let value = elem.read(r)?;
+        let value = elem.read_value(r)?;
         let active = r.u8()? != 0;
         t.push_tile(origin, 12, value, active);
     }
@@ -105,9 +143,9 @@ pub(crate) fn read_tree(
     let mut children = Vec::with_capacity(num_children as usize);
     for _ in 0..num_children {
         let origin = read_origin(r, 12)?;
-        let first_leaf = t.out.leaf_origins.len();
+        let first_leaf = t.out[0].leaf_origins.len();
         t.read_internal(r, origin, 5)?;
-        children.push((origin, first_leaf..t.out.leaf_origins.len()));
+        children.push((origin, first_leaf..t.out[0].leaf_origins.len()));
     }
     // buffers follow the root's std::map order: children sorted by (x, y, z)
     children.sort_by_key(|(o, _)| (o.x, o.y, o.z));
@@ -117,7 +155,7 @@ pub(crate) fn read_tree(
             t.read_leaf_buffer(r, leaf)?;
         }
     }
-    Ok((background, t.out))
+    Ok((background[..lanes].to_vec(), t.out))
 }
 
 /// Reads a node origin and checks it is aligned to the node size.
@@ -134,15 +172,17 @@ fn read_origin(r: &mut Reader, log2: u32) -> FResult<IVec3> {
 }
 
 impl TreeReader {
-    fn push_tile(&mut self, origin: IVec3, log2: u32, value: f32, active: bool) {
-        // inactive tiles equal to the background need no storage: lookups fall through to it
-        if active || value != self.background {
-            self.out.tiles.push(Tile {
-                origin,
-                log2,
-                value,
-                active,
-            });
+    fn push_tile(&mut self, origin: IVec3, log2: u32, value: [f32; MAX_LANES], active: bool) {
+        for (lane, out) in self.out.iter_mut().enumerate() {
+            // inactive tiles equal to the background need no storage: lookups fall through to it
+            if active || value[lane] != self.background[lane] {
+                out.tiles.push(Tile {
+                    origin,
+                    log2,
+                    value: value[lane],
+                    active,
+                });
+            }
         }
     }
 
@@ -154,9 +194,10 @@ impl TreeReader {
         let mut value_mask = vec![0u64; n_values / 64];
         r.mask(&mut child_mask)?;
         r.mask(&mut value_mask)?;
+        let lanes = self.lanes;
         let mut values = std::mem::take(&mut self.node_values);
-        values.resize(n_values, 0.0);
-        self.read_compressed_values(r, &mut values[..n_values], &value_mask)?;
+        values.resize(n_values * lanes, 0.0);
+        self.read_compressed_values(r, &mut values[..n_values * lanes], &value_mask)?;
         let dim = 1usize << log2dim;
         let offset = |n: usize| {
             let x = (n >> (2 * log2dim)) as i32;
@@ -164,9 +205,11 @@ impl TreeReader {
             let z = (n & (dim - 1)) as i32;
             origin + (IVec3::new(x, y, z) << child_log2 as i32)
         };
-        for (n, &value) in values.iter().enumerate().take(n_values) {
+        for (n, value) in values.chunks_exact(lanes).enumerate().take(n_values) {
             if !bit(&child_mask, n) {
-                self.push_tile(offset(n), child_log2, value, bit(&value_mask, n));
+                let mut v = [0.0; MAX_LANES];
+                v[..lanes].copy_from_slice(value);
+                self.push_tile(offset(n), child_log2, v, bit(&value_mask, n));
             }
         }
         self.node_values = values;
@@ -178,12 +221,12 @@ impl TreeReader {
             } else {
                 let mut mask = [0u64; 8];
                 r.mask(&mut mask)?;
-                self.out.leaf_origins.push(offset(n));
-                self.out.leaf_masks.push(mask);
-                let len = self.out.leaf_values.len();
-                self.out
-                    .leaf_values
-                    .resize(len + LEAF_VOXELS, self.background);
+                for (out, &bg) in self.out.iter_mut().zip(&self.background) {
+                    out.leaf_origins.push(offset(n));
+                    out.leaf_masks.push(mask);
+                    let len = out.leaf_values.len();
+                    out.leaf_values.resize(len + LEAF_VOXELS, bg);
+                }
             }
         }
         Ok(())
@@ -193,19 +236,34 @@ impl TreeReader {
     fn read_leaf_buffer(&mut self, r: &mut Reader, leaf: usize) -> FResult<()> {
         let mut mask = [0u64; 8];
         r.mask(&mut mask)?;
-        self.out.leaf_masks[leaf] = mask;
-        let mut values = std::mem::take(&mut self.out.leaf_values);
-        let result = self.read_compressed_values(
-            r,
-            &mut values[leaf * LEAF_VOXELS..(leaf + 1) * LEAF_VOXELS],
-            &mask,
-        );
-        self.out.leaf_values = values;
+        let range = leaf * LEAF_VOXELS..(leaf + 1) * LEAF_VOXELS;
+        if self.lanes == 1 {
+            self.out[0].leaf_masks[leaf] = mask;
+            let mut values = std::mem::take(&mut self.out[0].leaf_values);
+            let result = self.read_compressed_values(r, &mut values[range], &mask);
+            self.out[0].leaf_values = values;
+            return result;
+        }
+        let mut values = std::mem::take(&mut self.values);
+        values.resize(LEAF_VOXELS * self.lanes, 0.0);
+        let result = self.read_compressed_values(r, &mut values, &mask);
+        for (lane, out) in self.out.iter_mut().enumerate() {
+            out.leaf_masks[leaf] = mask;
+            let dst = &mut out.leaf_values[range.clone()];
+            for (d, v) in dst
+                .iter_mut()
+                .zip(values.iter().skip(lane).step_by(self.lanes))
+            {
+                *d = *v;
+            }
+        }
+        self.values = values;
         result
     }
 
     /// `io::readCompressedValues`: a metadata byte, optional inactive values
-    /// and selection mask, then the (possibly only active) values.
+    /// and selection mask, then the (possibly only active) values; `out`
+    /// holds `lanes` components per value, interleaved.
     fn read_compressed_values(
         &mut self,
         r: &mut Reader,
@@ -220,9 +278,10 @@ impl TreeReader {
                 format!("invalid node compression byte {metadata}"),
             ));
         }
+        let lanes = self.lanes;
         let bg = self.background;
         let mut inactive1 = bg;
-        let mut inactive0 = if metadata == 0 { bg } else { -bg };
+        let mut inactive0 = if metadata == 0 { bg } else { bg.map(|b| -b) };
         if matches!(
             metadata,
             meta::NO_MASK_AND_ONE_INACTIVE_VAL
@@ -230,12 +289,13 @@ impl TreeReader {
                 | meta::MASK_AND_TWO_INACTIVE_VALS
         ) {
             // stored at full precision even in half-float grids
-            inactive0 = self.elem.read(r)?;
+            inactive0 = self.elem.read_value(r)?;
             if metadata == meta::MASK_AND_TWO_INACTIVE_VALS {
-                inactive1 = self.elem.read(r)?;
+                inactive1 = self.elem.read_value(r)?;
             }
         }
-        let mut selection = vec![0u64; out.len() / 64];
+        let n_values = out.len() / lanes;
+        let mut selection = vec![0u64; n_values / 64];
         if (meta::MASK_AND_NO_INACTIVE_VALS..=meta::MASK_AND_TWO_INACTIVE_VALS).contains(&metadata)
         {
             r.mask(&mut selection)?;
@@ -245,24 +305,27 @@ impl TreeReader {
         let count = if mask_compressed {
             popcount(value_mask)
         } else {
-            out.len()
+            n_values
         };
         let mut temp = std::mem::take(&mut self.temp);
-        temp.resize(count, 0.0);
+        temp.resize(count * lanes, 0.0);
         let result = self.read_values(r, &mut temp);
         if result.is_ok() {
-            if count == out.len() {
+            if count == n_values {
                 out.copy_from_slice(&temp);
             } else {
-                let mut active = temp.iter();
-                for (n, v) in out.iter_mut().enumerate() {
-                    *v = if bit(value_mask, n) {
-                        active.next().copied().unwrap_or(bg)
+                let mut active = temp.chunks_exact(lanes);
+                for (n, v) in out.chunks_exact_mut(lanes).enumerate() {
+                    if bit(value_mask, n) {
+                        match active.next() {
+                            Some(a) => v.copy_from_slice(a),
+                            None => v.copy_from_slice(&bg[..lanes]),
+                        }
                     } else if bit(&selection, n) {
-                        inactive1
+                        v.copy_from_slice(&inactive1[..lanes]);
                     } else {
-                        inactive0
-                    };
+                        v.copy_from_slice(&inactive0[..lanes]);
+                    }
                 }
             }
         }
@@ -270,7 +333,7 @@ impl TreeReader {
         result
     }
 
-    /// `readData` / `HalfReader::read`: `out.len()` values, compressed as a chunk.
+    /// `readData` / `HalfReader::read`: `out.len()` components, compressed as a chunk.
     fn read_values(&mut self, r: &mut Reader, out: &mut [f32]) -> FResult<()> {
         if self.half && out.is_empty() {
             // OpenVDB writes nothing at all, not even a size, for an empty half array
@@ -280,18 +343,18 @@ impl TreeReader {
         self.raw.resize(out.len() * size, 0);
         read_chunk(r, self.compression, &mut self.raw)?;
         let raw = &self.raw;
-        match (self.half, self.elem) {
+        match (self.half, self.elem.size()) {
             (true, _) => {
                 for (v, b) in out.iter_mut().zip(raw.chunks_exact(2)) {
                     *v = half::f16::from_bits(u16::from_le_bytes([b[0], b[1]])).to_f32();
                 }
             }
-            (false, Elem::F32) => {
+            (false, 4) => {
                 for (v, b) in out.iter_mut().zip(raw.chunks_exact(4)) {
                     *v = f32::from_le_bytes([b[0], b[1], b[2], b[3]]);
                 }
             }
-            (false, Elem::F64) => {
+            (false, _) => {
                 for (v, b) in out.iter_mut().zip(raw.chunks_exact(8)) {
                     let mut a = [0u8; 8];
                     a.copy_from_slice(b);
