@@ -66,7 +66,7 @@ fn stats(medium: &Medium, rays: &[Ray]) -> (f64, f64, f64, f64) {
         let mut tracker = Tracker::new(medium, ray, f32::INFINITY);
         while let Some(c) = tracker.next(&mut sampler) {
             steps += 1;
-            let p = medium.properties(ray.at(c.t));
+            let p = medium.properties(ray.at(c.t), ray.time);
             if sampler.next_1d() < (p.sigma_a + p.sigma_s).max_channel() / c.sigma_maj {
                 break;
             }

@@ -131,8 +131,7 @@ fn run_info(args: InfoArgs) -> Result<i32> {
     // failing exit code for a damaged file (an unsupported grid type is fine).
     let file = brume::volume::VdbFile::open(&args.file)?;
     for name in file.grid_names() {
-        if let Err(e @ brume::volume::VolumeError::CorruptGrid { .. }) = file.load_float_grid(&name)
-        {
+        if let Err(e @ brume::volume::VolumeError::CorruptGrid { .. }) = file.load_grid(&name) {
             return Err(e.into());
         }
     }

@@ -9,12 +9,29 @@ pub struct Ray {
     pub origin: Vec3,
     /// Unit propagation direction.
     pub direction: Vec3,
+    /// The camera sample's time, in frames relative to the frame being rendered
+    /// (0 without a shutter); every ray of a path carries the same time.
+    pub time: f32,
 }
 
 impl Ray {
-    /// A ray from `origin` along `direction` (which should be normalized).
+    /// A ray from `origin` along `direction` (which should be normalized), at time 0.
     pub fn new(origin: Vec3, direction: Vec3) -> Ray {
-        Ray { origin, direction }
+        Ray {
+            origin,
+            direction,
+            time: 0.0,
+        }
+    }
+
+    /// A ray continuing this one's path from `origin` along `direction`: same time.
+    #[inline]
+    pub fn spawn(&self, origin: Vec3, direction: Vec3) -> Ray {
+        Ray {
+            origin,
+            direction,
+            time: self.time,
+        }
     }
 
     /// The point at parameter `t`.

@@ -219,7 +219,10 @@ fn render_pixel(scene: &Scene, x: u32, y: u32, first: u32, count: u32) -> Pixel 
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
 pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
     let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
-    let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+    let mut ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+    if scene.settings.shutter.is_some() {
+        ray.time = scene.settings.sample_time(sampler.time_1d());
+    }
     li(scene, ray, &mut sampler)
 }
 

@@ -67,13 +67,14 @@ impl Vertex<'_> {
     }
 }
 
-/// Next-event estimation from `vertex` to one light chosen uniformly.
+/// Next-event estimation from `vertex` to one light chosen uniformly, at the path's `time`.
 ///
 /// Shadow rays carry the media's transmittance. With `full_weight` the sample
 /// is not MIS-weighted (no BSDF/phase strategy follows it).
 pub(super) fn direct_light(
     scene: &Scene,
     vertex: &Vertex,
+    time: f32,
     sampler: &mut Sampler,
     full_weight: bool,
 ) -> Rgb {
@@ -92,7 +93,10 @@ pub(super) fn direct_light(
         return Rgb::BLACK;
     }
     let origin = vertex.shadow_origin(ls.wi);
-    let shadow = Ray::new(origin, ls.wi);
+    let shadow = Ray {
+        time,
+        ..Ray::new(origin, ls.wi)
+    };
     let t_max = if ls.distance.is_finite() {
         (ls.distance - (origin - vertex.position()).length()) * (1.0 - 1e-4)
     } else {

@@ -84,7 +84,7 @@ impl MediaAt {
         let (mut tau, mut sigma_t, mut in_scatter) = (Rgb::BLACK, Rgb::BLACK, Rgb::BLACK);
         for medium in &scene.media {
             tau += medium.optical_depth(ray, 0.0, t).unwrap_or(Rgb::BLACK);
-            let props = medium.properties(p);
+            let props = medium.properties(p, ray.time);
             sigma_t += props.sigma_a + props.sigma_s;
             if let Some(wi) = toward_light {
                 if !props.sigma_s.is_black() {
@@ -165,7 +165,7 @@ pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) 
     if media.in_scatter.is_black() {
         return Rgb::BLACK;
     }
-    let shadow = Ray::new(p, ls.wi);
+    let shadow = ray.spawn(p, ls.wi);
     let t_light = ls.distance * (1.0 - 1e-4);
     if scene.geometry.occluded(&shadow, t_light) {
         return Rgb::BLACK;

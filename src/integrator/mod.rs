@@ -39,6 +39,20 @@ pub struct Settings {
     pub transmittance: TransmittanceEstimator,
     /// Add equiangular sampling toward point and spot lights along rays in media.
     pub equiangular: bool,
+    /// Camera shutter `[open, close]` in frames relative to the frame's time
+    /// (`None`: every ray at time 0, the instant of the frame).
+    pub shutter: Option<[f32; 2]>,
+}
+
+impl Settings {
+    /// The time of a camera sample whose time dimension is `u` ∈ [0, 1): uniform over the shutter.
+    #[inline]
+    pub fn sample_time(&self, u: f32) -> f32 {
+        match self.shutter {
+            Some([open, close]) => open + (close - open) * u,
+            None => 0.0,
+        }
+    }
 }
 
 /// Everything the estimator needs, built by `scene::load`.
@@ -164,8 +178,8 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
                         phase: &properties.phase,
                         equiangular: segment.as_ref().map(|s| (s, t)),
                     };
-                    path.radiance +=
-                        path.throughput * direct_light(scene, &vertex, sampler, last_vertex);
+                    path.radiance += path.throughput
+                        * direct_light(scene, &vertex, ray.time, sampler, last_vertex);
                     if last_vertex {
                         break;
                     }
@@ -176,7 +190,7 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
                     path.prev_pdf = ps.pdf;
                     path.prev_delta = false;
                     path.prev_point = p;
-                    ray = Ray::new(p, ps.direction);
+                    ray = ray.spawn(p, ps.direction);
                     depth += 1;
                     if !russian_roulette(&mut path.throughput, depth, settings.rr_depth, sampler) {
                         break;
@@ -222,7 +236,8 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
                 wo,
                 material,
             };
-            path.radiance += path.throughput * direct_light(scene, &vertex, sampler, last_vertex);
+            path.radiance +=
+                path.throughput * direct_light(scene, &vertex, ray.time, sampler, last_vertex);
         }
         if last_vertex {
             break;
@@ -234,7 +249,7 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         path.prev_pdf = bs.pdf;
         path.prev_delta = bs.is_delta;
         path.prev_point = hit.p;
-        ray = Ray::new(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
+        ray = ray.spawn(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
         depth += 1;
         if !russian_roulette(&mut path.throughput, depth, settings.rr_depth, sampler) {
             break;

@@ -130,7 +130,7 @@ pub fn ratio_tracking(medium: &Medium, ray: &Ray, t_max: f32, sampler: &mut Samp
     let mut tracker = Tracker::new(medium, ray, t_max);
     let mut tr = Rgb::WHITE;
     while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t));
+        let props = medium.properties(ray.at(c.t), ray.time);
         let sigma_t = props.sigma_a + props.sigma_s;
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
@@ -151,7 +151,7 @@ pub fn delta_tracking_transmittance(
 ) -> Rgb {
     let mut tracker = Tracker::new(medium, ray, t_max);
     while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t));
+        let props = medium.properties(ray.at(c.t), ray.time);
         let sigma_t = (props.sigma_a + props.sigma_s).max_channel();
         if sampler.next_1d() < sigma_t / c.sigma_maj {
             return Rgb::BLACK;
@@ -191,7 +191,7 @@ pub fn residual_ratio_tracking(
             if t >= seg.t1 {
                 break;
             }
-            let props = medium.properties(ray.at(t));
+            let props = medium.properties(ray.at(t), ray.time);
             let residual = props.sigma_a + props.sigma_s - control;
             tr *= Rgb::WHITE - residual / residual_maj;
             if negligible(tr) {
@@ -216,7 +216,7 @@ fn ratio_tracking_segment(
     };
     let mut tr = Rgb::WHITE;
     while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t));
+        let props = medium.properties(ray.at(c.t), ray.time);
         let sigma_t = props.sigma_a + props.sigma_s;
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
@@ -312,7 +312,7 @@ pub fn sample_free_flight(
             return FreeFlight::Passed;
         };
         let (medium_index, tracker, collision) = trackers[slot].as_mut().expect("chosen slot");
-        let props = media[*medium_index].properties(ray.at(collision.t));
+        let props = media[*medium_index].properties(ray.at(collision.t), ray.time);
         let inv_maj = 1.0 / collision.sigma_maj;
         if !props.emission.is_black() {
             *radiance += *throughput * props.sigma_a * props.emission * inv_maj;

@@ -25,10 +25,11 @@ use glam::{DMat4, IVec3, Mat4};
 
 use super::blackbody::BlackbodyTable;
 use super::majorant_grid::{Dda, MajorantGrid};
+use super::motion::{self, GridMotion, MotionLookup};
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
 use crate::color::Rgb;
 use crate::math::{Affine3A, Bounds3, Ray, Vec3};
-use crate::volume::FloatGrid;
+use crate::volume::{FloatGrid, GridTransform};
 
 /// How tracking bounds the density along a ray.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -118,11 +119,20 @@ pub struct GridMedium {
     phase: PhaseFunction,
     emission: EmissionSource,
     majorants: Arc<MajorantGrid>,
+    /// Velocity motion blur (see `motion`), if the medium moves.
+    motion: Option<MotionLookup>,
+    /// Index-space box tracked by the DDA: `bounds`, dilated by the motion over the shutter.
+    track_bounds: Bounds3,
 }
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
 fn index_map(grid: &FloatGrid, to_world: &Affine3A) -> Affine3A {
-    let m = Mat4::from(*to_world).as_dmat4() * grid.transform().index_to_world_matrix();
+    index_map_of(grid.transform(), to_world)
+}
+
+/// World → index map of a grid with index → world map `transform` placed by `to_world`.
+pub(crate) fn index_map_of(transform: &GridTransform, to_world: &Affine3A) -> Affine3A {
+    let m = Mat4::from(*to_world).as_dmat4() * transform.index_to_world_matrix();
     let inv: DMat4 = m.inverse();
     Affine3A::from_mat4(inv.as_mat4())
 }
@@ -136,6 +146,15 @@ pub fn default_cell_size(extent: IVec3) -> i32 {
 impl GridMedium {
     /// A medium over `density` (any origin: a VDB file's grid or one built in code).
     pub fn new(density: FloatGrid, params: GridMediumParams) -> GridMedium {
+        GridMedium::new_moving(density, params, None)
+    }
+
+    /// A medium over `density`, advected by `motion` over the shutter (module `motion`).
+    pub fn new_moving(
+        density: FloatGrid,
+        params: GridMediumParams,
+        motion: Option<GridMotion>,
+    ) -> GridMedium {
         let world_to_index = index_map(&density, &params.to_world);
         // Trilinear lookups reach one voxel beyond the active voxels.
         let (lo, hi) = density
@@ -152,7 +171,16 @@ impl GridMedium {
             ),
             MajorantMode::Global => extent.as_vec3(),
         };
-        let majorants = Arc::new(MajorantGrid::build(&density, lo, hi, cell));
+        let (motion, (majorants, track_lo, track_hi)) = match &motion {
+            None => (None, (MajorantGrid::build(&density, lo, hi, cell), lo, hi)),
+            Some(m) => {
+                let (lookup, r) = MotionLookup::new(m, &params.to_world, &world_to_index);
+                let k = motion::dilation_cells(r, cell);
+                let grids = motion::dilated_majorants(&density, lo, hi, cell, k);
+                (Some(lookup), grids)
+            }
+        };
+        let majorants = Arc::new(majorants);
         let emission = match params.emission {
             GridEmission::None => EmissionSource::None,
             GridEmission::Constant(le) => EmissionSource::Constant(le),
@@ -188,6 +216,11 @@ impl GridMedium {
             phase: params.phase,
             emission,
             majorants,
+            motion,
+            track_bounds: Bounds3 {
+                min: track_lo,
+                max: track_hi,
+            },
         }
     }
 
@@ -237,6 +270,20 @@ impl GridMedium {
         }
     }
 
+    /// Coefficients at world point `p` at `time` (frames from the frame's time).
+    #[inline]
+    pub fn properties_at(&self, p: Vec3, time: f32) -> MediumProperties {
+        match &self.motion {
+            None => self.properties(p),
+            Some(m) => self.properties(m.displaced(p, time)),
+        }
+    }
+
+    /// True when a velocity grid moves the medium over the shutter.
+    pub fn is_moving(&self) -> bool {
+        self.motion.is_some()
+    }
+
     /// Emitted radiance Le at world point `p`.
     pub fn emission_at(&self, p: Vec3) -> Rgb {
         match &self.emission {
@@ -282,7 +329,7 @@ impl GridMedium {
             self.world_to_index.transform_vector3(ray.direction),
         );
         let dda = self
-            .bounds
+            .track_bounds
             .intersect_ray(&index_ray, t_max)
             .filter(|(t0, t1)| t0 < t1)
             .map(|(t0, t1)| {

@@ -136,6 +136,82 @@ impl MajorantGrid {
         }
     }
 
+    /// The bounds over every point within `k` cells (per axis) of each cell:
+    /// max and min filters over the (2k + 1)³ neighbourhood, separable by axis.
+    ///
+    /// Neighbours outside the grid count as density 0 for the minimum, and so
+    /// do cells not inside `inside` (an index box beyond which the density
+    /// is 0 whatever the grid stores). Used by velocity motion blur; `k = 0`
+    /// returns the grid unchanged.
+    pub fn dilated(&self, k: IVec3, inside: (Vec3, Vec3)) -> MajorantGrid {
+        if k == IVec3::ZERO {
+            return self.clone();
+        }
+        let mut out = self.clone();
+        for (i, m) in out.min.iter_mut().enumerate() {
+            let n = i as i32;
+            let c = IVec3::new(
+                n % self.dims.x,
+                (n / self.dims.x) % self.dims.y,
+                n / (self.dims.x * self.dims.y),
+            );
+            let lo = self.origin + c.as_vec3() * self.cell;
+            let hi = lo + self.cell;
+            if lo.cmplt(inside.0).any() || hi.cmpgt(inside.1).any() {
+                *m = 0.0;
+            }
+        }
+        for axis in 0..3 {
+            let r = k[axis];
+            out.max = self.filter_axis(&out.max, axis, r, f32::max, None);
+            out.min = self.filter_axis(&out.min, axis, r, f32::min, Some(0.0));
+        }
+        out
+    }
+
+    /// One axis of a separable neighbourhood filter; `outside` is the value of cells beyond the grid.
+    fn filter_axis(
+        &self,
+        values: &[f32],
+        axis: usize,
+        r: i32,
+        op: fn(f32, f32) -> f32,
+        outside: Option<f32>,
+    ) -> Vec<f32> {
+        let d = self.dims;
+        let mut out = values.to_vec();
+        for z in 0..d.z {
+            for y in 0..d.y {
+                for x in 0..d.x {
+                    let c = IVec3::new(x, y, z);
+                    let i = (x + d.x * (y + d.y * z)) as usize;
+                    for o in -r..=r {
+                        let mut n = c;
+                        n[axis] += o;
+                        if n[axis] < 0 || n[axis] >= d[axis] {
+                            if let Some(v) = outside {
+                                out[i] = op(out[i], v);
+                            }
+                            continue;
+                        }
+                        out[i] = op(out[i], values[(n.x + d.x * (n.y + d.y * n.z)) as usize]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Index-space box the cells cover: `origin` to `origin + dims · cell`.
+    pub fn extent(&self) -> (Vec3, Vec3) {
+        (self.origin, self.origin + self.dims.as_vec3() * self.cell)
+    }
+
+    /// Cell size in voxels along each axis.
+    pub fn cell_size(&self) -> Vec3 {
+        self.cell
+    }
+
     /// Number of cells along each axis.
     pub fn dims(&self) -> IVec3 {
         self.dims

@@ -11,12 +11,14 @@ pub mod grid;
 pub mod height_fog;
 pub mod homogeneous;
 pub mod majorant_grid;
+pub mod motion;
 pub mod phase;
 pub mod region;
 
 pub use grid::{GridEmission, GridMedium, GridMediumParams, MajorantMode};
 pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
+pub use motion::GridMotion;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
 
@@ -98,13 +100,16 @@ pub enum Medium {
 }
 
 impl Medium {
-    /// Coefficients at world point `p` (zero outside the medium).
+    /// Coefficients at world point `p` and `time` (frames from the frame time; zero outside the medium).
+    ///
+    /// Only grid media with a velocity grid change with time; the majorants
+    /// bound σt over the whole shutter, so they take no time.
     #[inline]
-    pub fn properties(&self, p: Vec3) -> MediumProperties {
+    pub fn properties(&self, p: Vec3, time: f32) -> MediumProperties {
         match self {
             Medium::Homogeneous(m) => m.properties(p),
             Medium::HeightFog(m) => m.properties(p),
-            Medium::Grid(m) => m.properties(p),
+            Medium::Grid(m) => m.properties_at(p, time),
         }
     }
 

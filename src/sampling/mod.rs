@@ -4,6 +4,12 @@
 //! dimension): a pixel's stream is a PCG32 generator keyed by the first
 //! three, and the dimension is the position in that stream. Renders are
 //! therefore identical whatever the thread count or tile order.
+//!
+//! One dimension is reserved outside the sequential stream: the camera
+//! sample's time ([`Sampler::time_1d`]) is the number at position
+//! [`TIME_DIMENSION`] of the same stream, reached by PCG's jump-ahead, so
+//! drawing it shifts no other dimension: a scene renders bit-identically
+//! with or without a shutter unless something in it moves.
 
 pub mod chi2;
 pub mod equiangular;
@@ -33,6 +39,10 @@ pub fn mix64(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// Stream position of the camera sample's time: far beyond what any path consumes
+/// (a path of 2^40 numbers would take days), so it never collides with a sequential dimension.
+pub const TIME_DIMENSION: u64 = 1 << 40;
+
 /// The random stream of one (seed, pixel, sample index) triple.
 #[derive(Clone, Debug)]
 pub struct Sampler {
@@ -60,6 +70,13 @@ impl Sampler {
     pub fn next_1d(&mut self) -> f32 {
         // 24 random mantissa bits: uniform on a grid of 2^-24, never 1.0.
         (self.rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
+    }
+
+    /// The uniform number at stream position [`TIME_DIMENSION`], without moving the stream.
+    pub fn time_1d(&self) -> f32 {
+        let mut rng = self.rng.clone();
+        rng.advance(TIME_DIMENSION);
+        (rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 
     /// Next uniform point in [0, 1)².
@@ -111,6 +128,27 @@ mod tests {
         };
         assert_eq!(a, b);
         assert_ne!(a, c);
+    }
+
+    #[test]
+    fn the_time_dimension_is_the_stream_far_ahead_and_moves_nothing() {
+        let mut s = Sampler::new(3, 1, 2, 9);
+        let t = s.time_1d();
+        let mut reference = Sampler::new(3, 1, 2, 9);
+        assert_eq!(s.next_1d(), reference.next_1d());
+        // the same number as stepping the stream: checked at a small position
+        let mut rng = Sampler::new(3, 1, 2, 9).rng;
+        rng.advance(5);
+        let mut stepped = Sampler::new(3, 1, 2, 9);
+        for _ in 0..5 {
+            stepped.next_1d();
+        }
+        assert_eq!(
+            rng.next_u32() >> 8,
+            (stepped.next_1d() * 16_777_216.0) as u32
+        );
+        assert!((0.0..1.0).contains(&t));
+        assert_ne!(t, Sampler::new(3, 1, 2, 10).time_1d());
     }
 
     #[test]

@@ -65,6 +65,9 @@ pub struct SceneDesc {
     /// `[[medium]]` entries (also accepted as `[[media]]`).
     #[serde(default, rename = "medium", alias = "media")]
     pub media: Vec<MediumDesc>,
+    /// `[animation]`: frame rate, frame offset, missing frames.
+    #[serde(default)]
+    pub animation: super::animation::AnimationDesc,
 }
 
 /// `[camera]`: a pinhole camera.
@@ -84,6 +87,9 @@ pub struct CameraDesc {
     /// Image size `[width, height]` in pixels.
     #[serde(default = "default_resolution")]
     pub resolution: [u32; 2],
+    /// Shutter `[open, close]` in frames relative to the frame's time (motion blur).
+    #[serde(default)]
+    pub shutter: Option<[f32; 2]>,
 }
 
 fn default_up() -> [f32; 3] {

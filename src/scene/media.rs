@@ -132,6 +132,7 @@ pub(crate) fn build_medium(
     field: &str,
     check: &Check,
     base: &Path,
+    timing: &super::animation::Timing,
 ) -> Result<Medium> {
     match desc {
         MediumDesc::Homogeneous {
@@ -160,6 +161,6 @@ pub(crate) fn build_medium(
             }))
         }
         MediumDesc::HeightFog { .. } => super::fog::build_height_fog(desc, field, check),
-        MediumDesc::Vdb(vdb) => super::vdb::build_vdb_medium(vdb, field, check, base),
+        MediumDesc::Vdb(vdb) => super::vdb::build_vdb_medium(vdb, field, check, base, timing),
     }
 }

@@ -1,6 +1,7 @@
 //! Scene files: parsing TOML into a `SceneDesc`, validating it with errors
 //! that name the file and field, and building the runtime `Scene`.
 
+pub mod animation;
 pub mod description;
 mod fog;
 mod media;
@@ -124,8 +125,29 @@ fn field_path(path: &serde_path_to_error::Path) -> String {
     out
 }
 
-/// Builds the runtime scene from a parsed description.
+/// Builds the runtime scene from a parsed description (a still: frame patterns are refused).
 pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
+    build_frame(desc, file, base, None)
+}
+
+/// Reads, validates and builds the scene in `path` for `frame` (frame patterns resolved).
+pub fn load_frame(path: &Path, frame: Option<i64>) -> Result<Scene> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Input {
+        path: path.to_path_buf(),
+        message: format!("cannot read scene file: {e}"),
+    })?;
+    let desc = parse(&text, path)?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    build_frame(&desc, path, &base, frame)
+}
+
+/// Builds the runtime scene for `frame` (`None` for a still).
+pub fn build_frame(
+    desc: &SceneDesc,
+    file: &Path,
+    base: &Path,
+    frame: Option<i64>,
+) -> Result<Scene> {
     let check = Check::new(file);
     let camera = build_camera(desc, &check)?;
     let integ = &desc.integrator;
@@ -133,6 +155,15 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
     if desc.shapes.is_empty() && desc.lights.is_empty() && desc.media.is_empty() {
         return Err(check.error("scene", "the scene is empty: no shape, light or medium"));
     }
+    let fps = check.range("animation.fps", desc.animation.fps, 0.0, 1e6, false)?;
+    let shutter = build_shutter(desc, &check)?;
+    let timing = animation::Timing {
+        frame,
+        shutter,
+        fps,
+        frame_offset: desc.animation.frame_offset,
+        missing: desc.animation.missing_frames,
+    };
     let settings = Settings {
         spp: integ.spp,
         max_depth: integ.max_depth,
@@ -140,6 +171,7 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         rr_depth: integ.rr_depth,
         seed: integ.seed,
         equiangular: integ.equiangular,
+        shutter,
         transmittance: match integ.transmittance.as_str() {
             "auto" => TransmittanceEstimator::Auto,
             "ratio" => TransmittanceEstimator::Ratio,
@@ -205,7 +237,7 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         .media
         .iter()
         .enumerate()
-        .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base))
+        .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base, &timing))
         .collect::<Result<Vec<_>>>()?;
 
     Ok(Scene {
@@ -217,6 +249,19 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         media,
         settings,
     })
+}
+
+/// `camera.shutter = [open, close]`: finite, open ≤ close, at most a frame either side.
+fn build_shutter(desc: &SceneDesc, check: &Check) -> Result<Option<[f32; 2]>> {
+    let Some([open, close]) = desc.camera.shutter else {
+        return Ok(None);
+    };
+    check.range("camera.shutter[0]", open, -1.0, 1.0, true)?;
+    check.range("camera.shutter[1]", close, -1.0, 1.0, true)?;
+    if open > close {
+        return Err(check.error("camera.shutter", "open must not be after close"));
+    }
+    Ok(Some([open, close]))
 }
 
 fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {

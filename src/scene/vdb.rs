@@ -14,20 +14,27 @@
 //! temperature_scale = 1000.0            # kelvin per unit of grid value
 //! emission_scale = 1.0                  # multiplies Le
 //! majorant = "grid"                     # or "global"
+//! velocity_grid = "vel"                 # vec3s velocity (units/s) for motion blur
+//! velocity_scale = 1.0                  # multiplies the velocities
 //! ```
+//!
+//! `file` may hold a frame pattern (`smoke.####.vdb`, see `animation`),
+//! resolved for the frame being rendered. The velocity grid only matters
+//! with a camera shutter; see `medium::motion`.
 
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use super::animation::{self, Timing};
 use super::description::{Color, PhaseDesc, TransformDesc};
 use super::media::build_phase;
 use super::shapes::build_transform;
 use super::validate::Check;
 use crate::color::Rgb;
 use crate::error::Result;
-use crate::medium::{GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium};
-use crate::volume::{load_float_grid, FloatGrid};
+use crate::medium::{GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium};
+use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid};
 
 /// The fields of a `type = "vdb"` medium.
 #[derive(Debug, Deserialize)]
@@ -71,6 +78,12 @@ pub struct VdbDesc {
     /// `"grid"` (default) or `"global"`.
     #[serde(default)]
     pub majorant: Option<String>,
+    /// Name of a vec3s velocity grid (file world units per second) for motion blur.
+    #[serde(default)]
+    pub velocity_grid: Option<String>,
+    /// Factor on the velocities (default 1).
+    #[serde(default)]
+    pub velocity_scale: Option<f32>,
 }
 
 fn default_grid() -> String {
@@ -94,9 +107,10 @@ pub(crate) fn build_vdb_medium(
     field: &str,
     check: &Check,
     base: &Path,
+    timing: &Timing,
 ) -> Result<Medium> {
     let f = |name: &str| format!("{field}.{name}");
-    let path = super::resolve(base, &desc.file);
+    let path = frame_file(&super::resolve(base, &desc.file), &f("file"), check, timing)?;
     if !path.is_file() {
         return Err(check.error(
             &f("file"),
@@ -125,6 +139,7 @@ pub(crate) fn build_vdb_medium(
             ))
         }
     };
+    let motion = build_motion(desc, &path, field, check, timing)?;
     let density = load(&path, &desc.grid, &f("grid"), check)?;
     let params = GridMediumParams {
         to_world: build_transform(desc.transform.as_ref(), field, check)?,
@@ -136,7 +151,57 @@ pub(crate) fn build_vdb_medium(
         majorant,
         cell_size: None,
     };
-    Ok(Medium::Grid(Arc::new(GridMedium::new(density, params))))
+    Ok(Medium::Grid(Arc::new(GridMedium::new_moving(
+        density, params, motion,
+    ))))
+}
+
+/// The file of the frame being rendered: a pattern resolved, a plain path unchanged.
+fn frame_file(path: &Path, field: &str, check: &Check, timing: &Timing) -> Result<PathBuf> {
+    if !animation::has_pattern(path) {
+        return Ok(path.to_path_buf());
+    }
+    let Some(frame) = timing.frame else {
+        return Err(check.error(
+            field,
+            format!(
+                "{} holds a frame pattern: render it with --frames",
+                path.display()
+            ),
+        ));
+    };
+    animation::resolve_frame(path, frame, timing.frame_offset, timing.missing)
+        .map_err(|message| check.error(field, message))
+}
+
+/// Velocity motion blur when the medium names a velocity grid and the camera has a shutter.
+fn build_motion(
+    desc: &VdbDesc,
+    path: &Path,
+    field: &str,
+    check: &Check,
+    timing: &Timing,
+) -> Result<Option<GridMotion>> {
+    let f = |name: &str| format!("{field}.{name}");
+    let scale = match desc.velocity_scale {
+        Some(s) => {
+            if desc.velocity_grid.is_none() {
+                return Err(check.error(&f("velocity_scale"), "needs velocity_grid"));
+            }
+            check.finite(&f("velocity_scale"), s)?
+        }
+        None => 1.0,
+    };
+    let (Some(name), Some(shutter)) = (&desc.velocity_grid, timing.shutter) else {
+        return Ok(None);
+    };
+    let velocity =
+        load_vec3_grid(path, name).map_err(|e| check.error(&f("velocity_grid"), e.to_string()))?;
+    Ok(Some(GridMotion {
+        velocity,
+        scale: scale / timing.fps,
+        shutter,
+    }))
 }
 
 /// Emission from at most one of `emission`, `temperature_grid` and `emission_grid`.

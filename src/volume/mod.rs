@@ -101,10 +101,10 @@ pub fn load_vec3_grid(path: &Path, name: &str) -> Result<Vec3Grid, VolumeError> 
 /// A grid of either value kind, as `brume info` reports it.
 #[derive(Debug, Clone)]
 pub enum AnyGrid {
-    /// A float or double grid.
-    Float(FloatGrid),
-    /// A vec3s or vec3d grid.
-    Vec3(Vec3Grid),
+    /// A float or double grid (boxed, like the vector grid, to keep the enum small).
+    Float(Box<FloatGrid>),
+    /// A vec3s or vec3d grid (boxed: three float grids).
+    Vec3(Box<Vec3Grid>),
 }
 
 impl VdbFile {
@@ -191,7 +191,7 @@ impl VdbFile {
     /// Loads a float (or double) grid by name into a sparse [`FloatGrid`].
     pub fn load_float_grid(&self, name: &str) -> Result<FloatGrid, VolumeError> {
         match self.load_grid(name)? {
-            AnyGrid::Float(g) => Ok(g),
+            AnyGrid::Float(g) => Ok(*g),
             AnyGrid::Vec3(_) => Err(FormatError::Unsupported(
                 "a vec3 grid where a float grid is needed".into(),
             )
@@ -202,7 +202,7 @@ impl VdbFile {
     /// Loads a vec3s (or vec3d) grid by name into a sparse [`Vec3Grid`].
     pub fn load_vec3_grid(&self, name: &str) -> Result<Vec3Grid, VolumeError> {
         match self.load_grid(name)? {
-            AnyGrid::Vec3(g) => Ok(g),
+            AnyGrid::Vec3(g) => Ok(*g),
             AnyGrid::Float(_) => Err(FormatError::Unsupported(
                 "a float grid where a vec3 grid (vec3s) is needed".into(),
             )
@@ -249,13 +249,13 @@ impl VdbFile {
             .map(|(b, bg)| b.finish(&d.name, bg, header.transform.clone()))
             .collect::<FResult<Vec<FloatGrid>>>()?;
         if grids.len() == 1 {
-            return Ok(AnyGrid::Float(grids.remove(0)));
+            return Ok(AnyGrid::Float(Box::new(grids.remove(0))));
         }
         let components: [FloatGrid; 3] = grids
             .try_into()
             .map_err(|_| FormatError::Corrupt("vector grid without three components".into()))?;
         Vec3Grid::from_components(&d.name, components)
-            .map(AnyGrid::Vec3)
+            .map(|g| AnyGrid::Vec3(Box::new(g)))
             .ok_or_else(|| FormatError::Corrupt("vector components disagree".into()))
     }
 }
