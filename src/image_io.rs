@@ -104,6 +104,25 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     })
 }
 
+/// True when `path` is an EXR brume wrote and marked complete (`brume:complete` = 1).
+pub fn exr_is_complete(path: &Path) -> bool {
+    use exr::meta::attribute::{AttributeValue, Text};
+    use exr::meta::MetaData;
+    let Ok(meta) = MetaData::read_from_file(path, false) else {
+        return false;
+    };
+    let key = Text::from("brume:complete");
+    meta.headers.iter().any(|h| {
+        matches!(
+            h.shared_attributes.other.get(&key),
+            Some(AttributeValue::I32(1))
+        ) || matches!(
+            h.own_attributes.other.get(&key),
+            Some(AttributeValue::I32(1))
+        )
+    })
+}
+
 /// Reads an RGB EXR back (for tests and tools): width, height, pixels.
 pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
     use exr::prelude::read_first_rgba_layer_from_file;

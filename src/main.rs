@@ -10,6 +10,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
+mod frames_cli;
+
 /// brume: a physically based renderer for participating media.
 #[derive(Parser)]
 #[command(version, about)]
@@ -96,6 +98,13 @@ struct RenderArgs {
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
     #[arg(long, value_name = "X,Y")]
     debug_pixel: Option<String>,
+    /// Render a frame sequence: `1-100`, `1,3,7-20:2`; outputs take the #### pattern of --out/--png
+    /// (default NAME.####.exr and NAME.####.png).
+    #[arg(long, value_name = "LIST", allow_hyphen_values = true)]
+    frames: Option<String>,
+    /// With --frames, skip frames whose EXR exists and is marked complete.
+    #[arg(long, requires = "frames")]
+    skip_existing: bool,
 }
 
 fn main() {
@@ -178,7 +187,20 @@ fn argument(name: &str, message: &str) -> Error {
 }
 
 fn run_render(args: RenderArgs) -> Result<i32> {
+    if args.frames.is_some() {
+        return frames_cli::run_frames(&args);
+    }
     let mut scene = brume::scene::load(&args.scene)?;
+    apply_overrides(&mut scene, &args)?;
+    let time_budget = check_render_args(&args)?;
+    if let Some(pixel) = &args.debug_pixel {
+        return debug_pixel(&scene, pixel);
+    }
+    render_still(args, scene, time_budget)
+}
+
+/// Applies --spp, --max-depth and --seed to a loaded scene.
+fn apply_overrides(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Result<()> {
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));
@@ -191,6 +213,11 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if let Some(seed) = args.seed {
         scene.settings.seed = seed;
     }
+    Ok(())
+}
+
+/// Checks the arguments that do not depend on the scene; returns the time budget.
+fn check_render_args(args: &RenderArgs) -> Result<Option<Duration>> {
     if args.threads == Some(0) {
         return Err(argument("--threads", "must be at least 1"));
     }
@@ -211,9 +238,15 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if !args.exposure.is_finite() {
         return Err(argument("--exposure", "must be finite"));
     }
-    if let Some(pixel) = &args.debug_pixel {
-        return debug_pixel(&scene, pixel);
-    }
+    Ok(time_budget)
+}
+
+/// Continues `run_render` for a still image.
+fn render_still(
+    args: RenderArgs,
+    scene: brume::integrator::Scene,
+    time_budget: Option<Duration>,
+) -> Result<i32> {
     let stem = args
         .scene
         .file_stem()

@@ -1,6 +1,6 @@
 //! Every shipped scene (`scenes/*.toml`, including ones added later) loads and
 //! renders at 24×24 pixels and 4 spp to an image that is finite, non-negative
-//! and not black.
+//! and not black; animated scenes at frame 1.
 
 use brume::render::{render, RenderOptions};
 use std::path::Path;
@@ -22,7 +22,8 @@ fn every_shipped_scene_renders() {
             brume::scene::parse(&text, &file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         desc.camera.resolution = [24, 24];
         desc.integrator.spp = 4;
-        let scene = brume::scene::build(&desc, &file, file.parent().unwrap())
+        // frame 1: scenes with frame patterns (animations) resolve it; stills ignore it
+        let scene = brume::scene::build_frame(&desc, &file, file.parent().unwrap(), Some(1))
             .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let options = RenderOptions {
             spp: 4,

@@ -186,6 +186,38 @@ pub fn resolve_frame(
     }
 }
 
+/// Refuses keyframed transforms (an array of transforms, or one with a
+/// `time` or `keyframes` key) and camera keyframes with one clear message:
+/// animated transforms are not supported yet.
+pub fn reject_keyframes(value: &toml::Value, path: &str) -> Result<(), (String, String)> {
+    const MESSAGE: &str = "keyframed (animated) transforms are not supported yet: give one \
+        transform { translate, rotate, scale }; media move with a velocity grid";
+    match value {
+        toml::Value::Array(items) => {
+            for (i, item) in items.iter().enumerate() {
+                reject_keyframes(item, &format!("{path}[{i}]"))?;
+            }
+        }
+        toml::Value::Table(table) => {
+            for (key, child) in table {
+                let child_path = format!("{path}.{key}");
+                let keyed = key == "transform"
+                    && (child.is_array()
+                        || child
+                            .as_table()
+                            .is_some_and(|t| t.contains_key("time") || t.contains_key("keyframes")));
+                let camera_keys = path == "camera" && (key == "keyframes" || key == "time");
+                if keyed || camera_keys {
+                    return Err((child_path, MESSAGE.into()));
+                }
+                reject_keyframes(child, &child_path)?;
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
 /// Parses a frame list: `1-100`, `1,3,7-20:2`, `-5--1`; in the order written.
 pub fn parse_frames(text: &str) -> Result<Vec<i64>, String> {
     let mut out = Vec::new();

@@ -50,6 +50,8 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
         )
     })?;
     for (key, value) in table.iter_mut() {
+        animation::reject_keyframes(value, key)
+            .map_err(|(field, message)| scene_error(field, message))?;
         retag(value, key, key).map_err(|(field, message)| scene_error(field, message))?;
     }
     serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
