@@ -189,11 +189,17 @@ fn keyframed_transforms_are_refused_clearly() {
     "#;
     let file = Path::new("keys.toml");
     let err = brume::scene::parse(text, file).unwrap_err().to_string();
-    assert!(err.contains("shape[0].transform") && err.contains("not supported"), "{err}");
+    assert!(
+        err.contains("shape[0].transform") && err.contains("not supported"),
+        "{err}"
+    );
     let text = text.replace(
         "transform = [{ time = 0.0, translate = [0.0, 0.0, 0.0] }, { time = 1.0, translate = [1.0, 0.0, 0.0] }]",
         "",
     ) + "\n[[medium]]\ntype = \"homogeneous\"\nsigma_t = 1.0\ntransform = { keyframes = [] }\n";
     let err = brume::scene::parse(&text, file).unwrap_err().to_string();
-    assert!(err.contains("medium[0].transform") && err.contains("not supported"), "{err}");
+    assert!(
+        err.contains("medium[0].transform") && err.contains("not supported"),
+        "{err}"
+    );
 }

@@ -74,10 +74,12 @@ pub struct Timing {
     pub missing: MissingFrames,
 }
 
-/// The `#` run of a path's file name: (prefix, width, suffix), or `None` without one.
+/// The first `#` run of a path's file name: (prefix, width, suffix), or `None` without one.
 fn split_pattern(path: &Path) -> Option<(String, usize, String)> {
     let text = path.to_str()?;
-    let start = text.find('#')?;
+    // only the file name holds a pattern: a '#' in a folder name is just a character
+    let name_start = text.rfind('/').map_or(0, |i| i + 1);
+    let start = name_start + text[name_start..].find('#')?;
     let width = text[start..].chars().take_while(|&c| c == '#').count();
     Some((
         text[..start].to_string(),
@@ -203,9 +205,9 @@ pub fn reject_keyframes(value: &toml::Value, path: &str) -> Result<(), (String, 
                 let child_path = format!("{path}.{key}");
                 let keyed = key == "transform"
                     && (child.is_array()
-                        || child
-                            .as_table()
-                            .is_some_and(|t| t.contains_key("time") || t.contains_key("keyframes")));
+                        || child.as_table().is_some_and(|t| {
+                            t.contains_key("time") || t.contains_key("keyframes")
+                        }));
                 let camera_keys = path == "camera" && (key == "keyframes" || key == "time");
                 if keyed || camera_keys {
                     return Err((child_path, MESSAGE.into()));
@@ -291,6 +293,11 @@ mod tests {
         assert_eq!(substitute(p, -3), PathBuf::from("dir/smoke.-003.vdb"));
         assert_eq!(substitute(Path::new("a#.exr"), 3), PathBuf::from("a3.exr"));
         assert!(!has_pattern(Path::new("still.vdb")));
+        assert!(!has_pattern(Path::new("take#2/still.vdb")));
+        assert_eq!(
+            substitute(Path::new("take#2/f.##.vdb"), 4),
+            PathBuf::from("take#2/f.04.vdb")
+        );
     }
 
     #[test]
