@@ -108,7 +108,7 @@ fn vdb_box(file: &str, majorant: &str, sigma_t_scale: &str) -> Medium {
         look_at = [0.0, 0.0, 0.0]
         [[medium]]
         type = "vdb"
-        file = "../shared/volumes/{file}"
+        file = "tests/data/volumes/{file}"
         density_scale = 2.0
         sigma_t_scale = {sigma_t_scale}
         albedo = 0.6
@@ -279,7 +279,7 @@ fn ratio_tracking_beats_delta_tracking_variance() {
         look_at = [0.0, 0.0, 0.0]
         [[medium]]
         type = "vdb"
-        file = "../shared/volumes/smoke_plume.vdb"
+        file = "volumes/smoke_plume.vdb"
         density_scale = 4.0
         "#,
     );

@@ -54,7 +54,7 @@ fn constant_vdb_box_renders_like_the_homogeneous_medium() {
     let vdb = scene(
         r#"[[medium]]
         type = "vdb"
-        file = "../shared/volumes/homogeneous_box.vdb"
+        file = "tests/data/volumes/homogeneous_box.vdb"
         density_scale = 0.15
         albedo = 0.5
         phase = { type = "hg", g = 0.5 }

@@ -8,6 +8,8 @@ use brume::math::Ray;
 use brume::sampling::Sampler;
 use std::path::Path;
 
+pub mod data;
+
 /// Builds a scene from TOML text as if it were the file `test.toml` in the crate root.
 pub fn scene_from_str(text: &str) -> Scene {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("test.toml");
