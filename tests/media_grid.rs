@@ -2,7 +2,7 @@
 //! the homogeneous medium, a procedural linear ramp against
 //! T = exp(-(a d + b d²/2)), every transmittance estimator and free-flight
 //! sampling, with the majorant grid and with one global majorant.
-//! Tolerances are k = 5 standard errors of each estimate (fixed seeds).
+//! Tolerances are the shared `assert_estimate` (tests/common/stats.rs; fixed seeds).
 
 mod common;
 
@@ -16,7 +16,7 @@ use brume::medium::{
 };
 use brume::sampling::Sampler;
 use brume::volume::{FloatGrid, GridTransform};
-use common::{scene_from_str, Accumulator, Estimate};
+use common::{assert_estimate, scene_from_str, Accumulator, Estimate};
 use glam::{DVec3, IVec3};
 use std::sync::Arc;
 
@@ -65,16 +65,8 @@ fn free_flight_transmittance(m: &Medium, ray: &Ray, t_max: f32, n: usize) -> Est
 }
 
 fn assert_close(e: &Estimate, expected: Rgb, what: &str) {
-    for c in 0..3 {
-        let tol = 5.0 * e.std_error[c] + 1e-6;
-        assert!(
-            (e.mean[c] - expected[c] as f64).abs() <= tol,
-            "{what}: channel {c}: {} ± {} vs {}",
-            e.mean[c],
-            e.std_error[c],
-            expected[c]
-        );
-    }
+    let want = [expected.r as f64, expected.g as f64, expected.b as f64];
+    assert_estimate(e, want, what);
 }
 
 /// Every estimator and free flight on every ray agree with `expected(ray, t_max)`.
