@@ -229,10 +229,22 @@ fn linear_ramp_matches_closed_form() {
         ),
         (
             Vec3::new(3.5, 0.4, 0.4),
-            Vec3::new(-1.0, 0.1, 0.2).normalize(),
+            Vec3::new(-1.0, 0.1, 0.15).normalize(),
             3.0,
         ),
     ];
+    // Outside the box of voxel centres, [0, 63h] × [0, 15h]², trilinear lookups fade
+    // towards the background and σ is no longer a + b·x: the box is convex, so
+    // both ends inside keep the whole ray inside.
+    let centres = Bounds3::new(Vec3::ZERO, Vec3::new(63.0, 15.0, 15.0) / 16.0);
+    for (k, &(q0, u, l)) in local.iter().enumerate() {
+        for p in [q0, q0 + u * l] {
+            assert!(
+                (centres.min.cmple(p) & p.cmple(centres.max)).all(),
+                "ray {k} leaves the voxel-centre box at {p}"
+            );
+        }
+    }
     let rays: Vec<(Ray, f32)> = local
         .iter()
         .map(|&(q0, u, l)| {
