@@ -335,18 +335,24 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let bytes = brume::render::peak_bytes(w, h);
-    // Reserving touches no page, so the probe itself costs nothing.
-    let fits = usize::try_from(bytes)
-        .ok()
-        .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
-    if fits {
-        return Ok(());
-    }
+    let limit = brume::render::MAX_PEAK_BYTES;
+    let why = if bytes > limit {
+        format!("more than brume's limit of {:.1} GB", limit as f64 / 1e9)
+    } else {
+        // Reserving touches no page, so the probe itself costs nothing.
+        let fits = usize::try_from(bytes)
+            .ok()
+            .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
+        if fits {
+            return Ok(());
+        }
+        "more than this machine can give".to_string()
+    };
     Err(Error::Scene {
         file: file.to_path_buf(),
         field: "camera.resolution".into(),
         message: format!(
-            "a {w}x{h} image needs {:.1} GB of memory, more than this machine can give",
+            "a {w}x{h} image needs {:.1} GB of memory, {why}",
             bytes as f64 / 1e9
         ),
     })

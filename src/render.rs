@@ -52,6 +52,11 @@ struct Pixel {
     nonfinite: u32,
 }
 
+/// The most memory a render may hold at its peak (64 GiB): larger images are
+/// refused before rendering on every machine, whatever the kernel would grant
+/// (a reservation can succeed with overcommit and fail only when touched).
+pub const MAX_PEAK_BYTES: u64 = 64 << 30;
+
 /// Bytes a `width`×`height` render holds at its peak: film, pass, image and PNG bytes.
 pub fn peak_bytes(width: u32, height: u32) -> u64 {
     let per_pixel = 2 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3;
