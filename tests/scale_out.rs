@@ -127,6 +127,73 @@ fn tiles_from_job_completion_index_merge_bit_identical() {
     assert_bit_identical(&film(&full), &film(&merge(dir.path(), &pieces)));
 }
 
+#[test]
+fn an_interrupted_piece_is_merged_by_the_samples_it_holds() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = plume_scene(dir.path(), 0.9);
+    let spp = ["--spp", "1000000"];
+    let first = render(
+        &scene,
+        &[&spp[..], &["--samples", "0..16"]].concat(),
+        "first",
+    );
+    let rest = dir.path().join("rest.exr");
+    let child = brume()
+        .args(["render", "--quiet", "--threads", "2"])
+        .arg(&scene)
+        .args(spp)
+        .args(["--samples", "16..1000000", "--out"])
+        .arg(&rest)
+        .arg("--png")
+        .arg(dir.path().join("rest.png"))
+        .spawn()
+        .unwrap();
+    let output = interrupt_after(child, std::time::Duration::from_millis(1500));
+    assert_eq!(
+        output.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let held = film(&rest).provenance.held;
+    assert_eq!(held.len(), 1);
+    let end = held[0].end;
+    assert!(
+        held[0].start == 16 && end > 16,
+        "no pass finished: {held:?}"
+    );
+    assert!(!film(&rest).provenance.complete());
+
+    let out = dir.path().join("merged.exr");
+    let output = brume()
+        .arg("merge")
+        .arg(&first)
+        .arg(&rest)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let note = format!(
+        "{} was interrupted: it holds samples 16..{end} of 16..1000000",
+        rest.display()
+    );
+    assert!(stderr.contains(&note), "{stderr}");
+    let merged = film(&out);
+    assert_eq!(
+        merged.provenance.held,
+        vec![brume::film::SampleRange::new(0, end)]
+    );
+    assert!(!merged.provenance.complete());
+    // The merge holds samples 0..end: the render asked for exactly those.
+    let single = render(&scene, &["--spp", &end.to_string()], "single");
+    let single = film(&single);
+    assert_eq!(merged.counts, single.counts);
+    let worst = max_ulps(&beauty_means(&single), &beauty_means(&merged));
+    assert!(worst <= 1, "{worst} ulps");
+}
+
 fn refusal(dir: &Path, pieces: &[PathBuf]) -> String {
     let output = brume()
         .arg("merge")

@@ -5,7 +5,8 @@
 use assert_cmd::cargo::CommandCargoExt;
 use brume::film::Film;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 /// The brume binary with no standard input and captured output.
 pub fn brume() -> Command {
@@ -82,6 +83,25 @@ pub fn render(scene: &Path, args: &[&str], name: &str) -> PathBuf {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "render {args:?}: {stderr}");
     out
+}
+
+/// Sends SIGINT to `child` after `after`, then waits for it at most 60 s.
+pub fn interrupt_after(mut child: Child, after: Duration) -> Output {
+    std::thread::sleep(after);
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success(), "kill -INT failed");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("brume did not stop within 60 s of SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
 }
 
 /// Merges `pieces` into `dir/merged.exr` with `brume merge`; returns its path.
