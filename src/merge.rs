@@ -247,6 +247,12 @@ pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result
     if let Some(png) = png {
         crate::image_io::check_writable(png)?;
     }
+    if let Some(absent) = pieces.iter().find(|p| !p.exists()) {
+        return Err(refuse(format!(
+            "missing piece: {} does not exist",
+            absent.display()
+        )));
+    }
     let films = pieces
         .iter()
         .map(|p| Ok((p.clone(), crate::image_io::read_film_exr(p)?)))

@@ -238,6 +238,12 @@ fn merge_refuses_overlap_other_scenes_seeds_and_missing_pieces() {
         "{missing}"
     );
 
+    let absent = refusal(dir.path(), &[a.clone(), dir.path().join("c2.exr")]);
+    assert!(
+        absent.contains("missing piece: ") && absent.contains("c2.exr does not exist"),
+        "{absent}"
+    );
+
     let seed = refusal(dir.path(), &[a.clone(), d]);
     assert!(
         seed.contains("seed 7 differs from") && seed.contains("'s 0"),
