@@ -239,7 +239,7 @@ impl Channels<'_> {
         let channel = self
             .0
             .iter()
-            .find(|c| c.name == Text::from(name))
+            .find(|c| c.name == *name)
             .ok_or_else(|| format!("not a brume film: no channel {name}"))?;
         match &channel.sample_data {
             FlatSamples::U32(v) => Ok(v.clone()),
