@@ -34,6 +34,12 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// Pieces of a split render that cannot be merged into one image.
+    #[error("cannot merge: {message}")]
+    Merge {
+        /// Which piece and what is wrong with it.
+        message: String,
+    },
     /// An output file cannot be written.
     #[error("{}: cannot write output: {message}", path.display())]
     Output {

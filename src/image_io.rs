@@ -8,6 +8,9 @@ use crate::color::{linear_to_srgb, Rgb};
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
+mod film_exr;
+pub use film_exr::{read_film_exr, write_film_exr};
+
 /// A finished (or partial) image in linear RGB with what produced it.
 pub struct Image {
     /// Width in pixels.

@@ -2,7 +2,7 @@
 
 use brume::error::{Error, Result};
 use brume::image_io;
-use brume::render::{render, RenderOptions};
+use brume::render::{render_part, RenderOptions};
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -26,6 +26,21 @@ enum Command {
     Info(InfoArgs),
     /// Render the airlight demo: targets fading with distance in haze, compared with Koschmieder's law.
     Airlight(AirlightArgs),
+    /// Merge the pieces of a split render (crops, sample ranges) into the image of the whole render.
+    Merge(MergeArgs),
+}
+
+#[derive(clap::Args)]
+struct MergeArgs {
+    /// The pieces: EXR files written by `brume render` with --crop, --samples or --task-count.
+    #[arg(required = true)]
+    pieces: Vec<PathBuf>,
+    /// The merged EXR.
+    #[arg(long, short)]
+    out: PathBuf,
+    /// A PNG preview of the merged image.
+    #[arg(long)]
+    png: Option<PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -96,6 +111,8 @@ struct RenderArgs {
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
     #[arg(long, value_name = "X,Y")]
     debug_pixel: Option<String>,
+    #[command(flatten)]
+    split: brume::split::SplitArgs,
 }
 
 fn main() {
@@ -104,6 +121,7 @@ fn main() {
         Command::Render(args) => run_render(args),
         Command::Info(args) => run_info(args),
         Command::Airlight(args) => run_airlight(args),
+        Command::Merge(args) => run_merge(args),
     };
     match result {
         Ok(code) => std::process::exit(code),
@@ -215,6 +233,15 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if let Some(pixel) = &args.debug_pixel {
         return debug_pixel(&scene, pixel);
     }
+    if args.split.is_piece() && time_budget.is_some() {
+        return Err(argument(
+            "--time",
+            "a piece (--crop, --samples, --task-count) renders a fixed sample range; leave out --time",
+        ));
+    }
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let part = brume::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
+    let scene_hash = brume::scene_hash::scene_hash(&args.scene, &scene.settings)?;
     let stem = args
         .scene
         .file_stem()
@@ -248,8 +275,9 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         threads: args.threads,
         progress: show,
     };
-    let out = render(&scene, &options, &cancel);
-    image_io::write_exr(&exr_path, &out.image)?;
+    let mut out = render_part(&scene, &options, &part, &cancel);
+    out.film.provenance.scene_hash = scene_hash;
+    image_io::write_film_exr(&exr_path, &out.film)?;
     image_io::write_png(&png_path, &out.image, args.exposure)?;
     if !args.quiet {
         report(&out, &exr_path, &png_path);
@@ -264,6 +292,27 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         );
         return Ok(EXIT_INTERRUPTED);
     }
+    Ok(0)
+}
+
+fn run_merge(args: MergeArgs) -> Result<i32> {
+    let merged = brume::merge::merge_files(&args.pieces, &args.out, args.png.as_deref())?;
+    for note in &merged.notes {
+        eprintln!("{note}");
+    }
+    let p = &merged.film.provenance;
+    let (w, h) = merged.film.display;
+    eprintln!(
+        "merged {} pieces into {w}x{h} at {} spp{} -> {}",
+        args.pieces.len(),
+        p.spp_held(),
+        if p.complete() {
+            ""
+        } else {
+            " (incomplete: some pieces were interrupted)"
+        },
+        args.out.display()
+    );
     Ok(0)
 }
 

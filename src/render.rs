@@ -6,6 +6,7 @@
 //! seed only, never on the thread count or scheduling.
 
 use crate::color::Rgb;
+use crate::film::{Film, Provenance, Rect, SampleRange};
 use crate::image_io::Image;
 use crate::integrator::{li, Scene};
 use crate::sampling::Sampler;
@@ -34,8 +35,10 @@ pub struct RenderOptions {
 
 /// What a render produced and how it went.
 pub struct RenderOutput {
-    /// The image (mean radiance per pixel).
+    /// The image (mean radiance per pixel of the data window).
     pub image: Image,
+    /// The sums and counts behind the image, for EXR output and `merge`.
+    pub film: Film,
     /// Wall-clock time.
     pub elapsed: Duration,
     /// Samples whose radiance was NaN or infinite and were left out.
@@ -57,9 +60,10 @@ struct Pixel {
 /// (a reservation can succeed with overcommit and fail only when touched).
 pub const MAX_PEAK_BYTES: u64 = 64 << 30;
 
-/// Bytes a `width`×`height` render holds at its peak: film, pass, image and PNG bytes.
+/// Bytes a `width`×`height` render holds at its peak: sums, pass, film,
+/// image, PNG bytes and the EXR channels (3 means, 8 words of sums and counts).
 pub fn peak_bytes(width: u32, height: u32) -> u64 {
-    let per_pixel = 2 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3;
+    let per_pixel = 3 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3 + 11 * 4;
     width as u64 * height as u64 * per_pixel as u64
 }
 
@@ -100,20 +104,61 @@ impl Pixel {
     }
 }
 
+/// Which part of the film a render fills: a crop and a sample range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Part {
+    /// Pixels to render (the data window).
+    pub crop: Rect,
+    /// Sample indices to take in every pixel.
+    pub samples: SampleRange,
+}
+
+impl Part {
+    /// The whole frame of `scene` at `spp` samples per pixel.
+    pub fn whole(scene: &Scene, spp: u32) -> Part {
+        Part {
+            crop: Rect::full(scene.camera.width(), scene.camera.height()),
+            samples: SampleRange::new(0, spp),
+        }
+    }
+}
+
 /// Renders `scene`; stops early (keeping finished passes) once `cancel` is set.
 pub fn render(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
+    render_part(scene, options, &Part::whole(scene, options.spp), cancel)
+}
+
+/// Renders sample indices `part.samples` of the pixels in `part.crop` only
+/// (`options.spp` is then the spp of the whole render the part belongs to).
+pub fn render_part(
+    scene: &Scene,
+    options: &RenderOptions,
+    part: &Part,
+    cancel: &AtomicBool,
+) -> RenderOutput {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads.unwrap_or(0))
         .build()
         .expect("thread pool");
-    pool.install(|| render_in_pool(scene, options, cancel))
+    let spp_total = options.spp;
+    let options = RenderOptions {
+        spp: part.samples.len(),
+        ..options.clone()
+    };
+    let mut out = pool.install(|| render_in_pool(scene, &options, part, cancel));
+    let provenance = &mut out.film.provenance;
+    provenance.spp_total = provenance.spp_total.max(spp_total);
+    out
 }
 
-fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
-    let (w, h) = (
-        scene.camera.width() as usize,
-        scene.camera.height() as usize,
-    );
+fn render_in_pool(
+    scene: &Scene,
+    options: &RenderOptions,
+    part: &Part,
+    cancel: &AtomicBool,
+) -> RenderOutput {
+    let (w, h) = (part.crop.width() as usize, part.crop.height() as usize);
+    let (x0, y0, first) = (part.crop.x0, part.crop.y0, part.samples.start);
     let mut film = vec![Pixel::default(); w * h];
     let start = Instant::now();
     let pass_spp = pass_size(options);
@@ -147,7 +192,7 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
                 }
                 for (i, px) in rows.iter_mut().enumerate() {
                     let (x, y) = ((i % w) as u32, (band * BAND_ROWS + i / w) as u32);
-                    *px = render_pixel(scene, x, y, spp_done, count);
+                    *px = render_pixel(scene, x0 + x, y0 + y, first + spp_done, count);
                 }
                 bands_done.fetch_add(1, Ordering::Relaxed);
                 bar.inc(1);
@@ -168,6 +213,7 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
     bar.finish_and_clear();
     let nonfinite: u64 = film.iter().map(|p| p.nonfinite as u64).sum();
     let pixels = film.iter().map(Pixel::mean).collect();
+    let held = SampleRange::new(first, first + spp_done);
     RenderOutput {
         image: Image {
             width: w,
@@ -176,10 +222,35 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
             spp: spp_done,
             partial,
         },
+        film: to_film(scene, part, held, partial, &film),
         elapsed: start.elapsed(),
         nonfinite_samples: nonfinite,
         samples: spp_done as u64 * (w * h) as u64,
     }
+}
+
+/// The film of `part` holding the sums in `pixels` (samples `held` of each pixel).
+fn to_film(scene: &Scene, part: &Part, held: SampleRange, partial: bool, pixels: &[Pixel]) -> Film {
+    let display = (scene.camera.width(), scene.camera.height());
+    // A timed render asks for what it reaches; only a stopped one falls short.
+    let requested = match partial {
+        true => SampleRange::new(part.samples.start, part.samples.end.max(held.end)),
+        false => held,
+    };
+    let provenance = Provenance {
+        seed: scene.settings.seed,
+        scene_hash: 0,
+        spp_total: requested.end,
+        requested: vec![requested],
+        held: if held.is_empty() { vec![] } else { vec![held] },
+    };
+    let mut film = Film::new(display, part.crop, provenance);
+    for (i, p) in pixels.iter().enumerate() {
+        film.counts[i] = p.count;
+        film.nonfinite[i] = p.nonfinite;
+        film.layers[0].sums[3 * i..3 * i + 3].copy_from_slice(&p.sum);
+    }
+    film
 }
 
 /// Samples per pass: all at once without a time budget (in chunks for progress), small passes with one.
