@@ -31,18 +31,16 @@ pub(super) enum Vertex<'a> {
 }
 
 impl Vertex<'_> {
-    /// Where shadow rays toward `wi` start.
-    fn shadow_origin(&self, wi: Vec3) -> Vec3 {
+    /// Where lights are sampled from and shadow rays start: a surface point
+    /// nudged off its surface on the side of `wo` (every material reflects only),
+    /// a medium point itself.
+    ///
+    /// The light sample's direction and distance are measured from this same
+    /// point, so the shadow ray ends exactly on the sampled light point: with
+    /// a convex light the chord to a point it can see never enters the light.
+    fn shadow_origin(&self) -> Vec3 {
         match self {
-            Vertex::Surface { hit, .. } => offset_origin(hit.p, hit.geometric_normal, wi),
-            Vertex::Medium { p, .. } => *p,
-        }
-    }
-
-    /// The point itself.
-    fn position(&self) -> Vec3 {
-        match self {
-            Vertex::Surface { hit, .. } => hit.p,
+            Vertex::Surface { hit, wo, .. } => offset_origin(hit.p, hit.geometric_normal, *wo),
             Vertex::Medium { p, .. } => *p,
         }
     }
@@ -84,20 +82,17 @@ pub(super) fn direct_light(
     let u = sampler.next_2d();
     let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
     let light = &scene.lights[index];
-    let Some(ls) = light.sample(vertex.position(), u, &scene.geometry) else {
+    let origin = vertex.shadow_origin();
+    let Some(ls) = light.sample(origin, u, &scene.geometry) else {
         return Rgb::BLACK;
     };
     let (f, scatter_pdf) = vertex.scattering(ls.wi);
     if f.is_black() {
         return Rgb::BLACK;
     }
-    let origin = vertex.shadow_origin(ls.wi);
     let shadow = Ray::new(origin, ls.wi);
-    let t_max = if ls.distance.is_finite() {
-        (ls.distance - (origin - vertex.position()).length()) * (1.0 - 1e-4)
-    } else {
-        f32::INFINITY
-    };
+    // Stopping just short of the light point along the same chord keeps its own shape out.
+    let t_max = ls.distance * (1.0 - 1e-4);
     if scene.geometry.occluded(&shadow, t_max) {
         return Rgb::BLACK;
     }
