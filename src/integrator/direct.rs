@@ -4,6 +4,7 @@ use super::equiangular::{free_flight_weight, Segment};
 use super::Scene;
 use crate::color::Rgb;
 use crate::geometry::SurfaceHit;
+use crate::light::LightSample;
 use crate::material::Material;
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::PhaseFunction;
@@ -31,16 +32,18 @@ pub(super) enum Vertex<'a> {
 }
 
 impl Vertex<'_> {
-    /// Where lights are sampled from and shadow rays start: a surface point
-    /// nudged off its surface on the side of `wo` (every material reflects only),
-    /// a medium point itself.
-    ///
-    /// The light sample's direction and distance are measured from this same
-    /// point, so the shadow ray ends exactly on the sampled light point: with
-    /// a convex light the chord to a point it can see never enters the light.
-    fn shadow_origin(&self) -> Vec3 {
+    /// Where shadow rays toward `wi` start: off the surface on the side of `wi`.
+    fn shadow_origin(&self, wi: Vec3) -> Vec3 {
         match self {
-            Vertex::Surface { hit, wo, .. } => offset_origin(hit.p, hit.geometric_normal, *wo),
+            Vertex::Surface { hit, .. } => offset_origin(hit.p, hit.geometric_normal, wi),
+            Vertex::Medium { p, .. } => *p,
+        }
+    }
+
+    /// The point itself, where lights are sampled from.
+    fn position(&self) -> Vec3 {
+        match self {
+            Vertex::Surface { hit, .. } => hit.p,
             Vertex::Medium { p, .. } => *p,
         }
     }
@@ -65,6 +68,25 @@ impl Vertex<'_> {
     }
 }
 
+/// The shadow ray from `origin` (the receiver `p` nudged off its surface) to the light sample.
+///
+/// Direction and length are those of the chord from `origin` to the sampled
+/// light point itself, stopped just short of it: the chord from a point
+/// outside a convex light to a point of it that the point sees never enters
+/// the light. (Keeping the direction from `p` and only moving the start would
+/// run the ray parallel to that chord, into the light near its silhouette.)
+fn shadow_ray(origin: Vec3, p: Vec3, ls: &LightSample) -> (Ray, f32) {
+    if !ls.distance.is_finite() {
+        return (Ray::new(origin, ls.wi), f32::INFINITY);
+    }
+    let chord = p + ls.wi * ls.distance - origin;
+    let length = chord.length();
+    if length == 0.0 {
+        return (Ray::new(origin, ls.wi), 0.0);
+    }
+    (Ray::new(origin, chord / length), length * (1.0 - 1e-4))
+}
+
 /// Next-event estimation from `vertex` to one light chosen uniformly.
 ///
 /// Shadow rays carry the media's transmittance. With `full_weight` the sample
@@ -82,17 +104,15 @@ pub(super) fn direct_light(
     let u = sampler.next_2d();
     let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
     let light = &scene.lights[index];
-    let origin = vertex.shadow_origin();
-    let Some(ls) = light.sample(origin, u, &scene.geometry) else {
+    let p = vertex.position();
+    let Some(ls) = light.sample(p, u, &scene.geometry) else {
         return Rgb::BLACK;
     };
     let (f, scatter_pdf) = vertex.scattering(ls.wi);
     if f.is_black() {
         return Rgb::BLACK;
     }
-    let shadow = Ray::new(origin, ls.wi);
-    // Stopping just short of the light point along the same chord keeps its own shape out.
-    let t_max = ls.distance * (1.0 - 1e-4);
+    let (shadow, t_max) = shadow_ray(vertex.shadow_origin(ls.wi), p, &ls);
     if scene.geometry.occluded(&shadow, t_max) {
         return Rgb::BLACK;
     }

@@ -233,9 +233,8 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         path.throughput *= bs.weight;
         path.prev_pdf = bs.pdf;
         path.prev_delta = bs.is_delta;
+        path.prev_point = hit.p;
         ray = Ray::new(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
-        // Area-light pdfs of what this ray hits are measured from where it starts.
-        path.prev_point = ray.origin;
         depth += 1;
         if !russian_roulette(&mut path.throughput, depth, settings.rr_depth, sampler) {
             break;
