@@ -33,7 +33,8 @@ impl Cone {
         let to_center = center - p;
         let dist2 = to_center.length_squared();
         let sin2_max = radius * radius / dist2;
-        if !(sin2_max < MAX_SIN2) {
+        // Also rejects NaN (a receiver at the centre).
+        if sin2_max.is_nan() || sin2_max >= MAX_SIN2 {
             return None;
         }
         let distance = dist2.sqrt();
