@@ -89,14 +89,9 @@ fn shadow_ray(origin: Vec3, p: Vec3, ls: &LightSample) -> (Ray, f32) {
 
 /// Next-event estimation from `vertex` to one light chosen uniformly.
 ///
-/// Shadow rays carry the media's transmittance. With `full_weight` the sample
-/// is not MIS-weighted (no BSDF/phase strategy follows it).
-pub(super) fn direct_light(
-    scene: &Scene,
-    vertex: &Vertex,
-    sampler: &mut Sampler,
-    full_weight: bool,
-) -> Rgb {
+/// Shadow rays carry the media's transmittance. The sample is MIS-weighted
+/// against the BSDF/phase sampling that every vertex also does.
+pub(super) fn direct_light(scene: &Scene, vertex: &Vertex, sampler: &mut Sampler) -> Rgb {
     if scene.lights.is_empty() {
         return Rgb::BLACK;
     }
@@ -131,7 +126,7 @@ pub(super) fn direct_light(
             equiangular: Some((segment, t)),
             ..
         } if light.point_position().is_some() => free_flight_weight(scene, segment, index, *t),
-        _ if ls.is_delta || full_weight => 1.0,
+        _ if ls.is_delta => 1.0,
         _ => power_heuristic(light_pdf, scatter_pdf),
     };
     f * tr * ls.radiance * (weight / light_pdf)
