@@ -87,7 +87,7 @@ pub(super) fn segment(scene: &Scene, ray: &Ray, t_surface: f32) -> Option<Segmen
 /// below the cut, then keeping the last length above it (at most twice the
 /// needed one). Any end is unbiased; this one keeps samples where light arrives.
 fn transmittance_cut(scene: &Scene, ray: &Ray, t0: f32, t1: f32) -> f32 {
-    if !(t0 < t1) {
+    if t0 >= t1 || t0.is_nan() || t1.is_nan() {
         return t1;
     }
     let tau = |t: f32| -> f32 {
