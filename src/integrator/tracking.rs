@@ -10,6 +10,77 @@ use crate::color::Rgb;
 use crate::math::Ray;
 use crate::medium::{MajorantIter, MajorantSegment, Medium, MediumProperties};
 use crate::sampling::Sampler;
+use std::cell::Cell;
+
+/// Tentative collisions taken by tracking, for the benchmark report.
+///
+/// `null_sum` adds up 1 - max σt/σ̄ over every tentative collision (free
+/// flights and shadow rays): its mean is the null-collision fraction, the
+/// share of lookups a tighter majorant would have saved.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TrackingStats {
+    /// Tentative collisions (one medium lookup each).
+    pub collisions: u64,
+    /// Sum of the null-collision probabilities.
+    pub null_sum: f64,
+}
+
+impl TrackingStats {
+    /// Mean null-collision probability (0 without collisions).
+    pub fn null_fraction(&self) -> f64 {
+        if self.collisions == 0 {
+            0.0
+        } else {
+            self.null_sum / self.collisions as f64
+        }
+    }
+
+    /// Adds another count.
+    pub fn merge(&mut self, other: TrackingStats) {
+        self.collisions += other.collisions;
+        self.null_sum += other.null_sum;
+    }
+}
+
+thread_local! {
+    // Per thread, so counting costs no shared cache line; flushed once per estimator call.
+    static STATS: Cell<(u64, f64)> = const { Cell::new((0, 0.0)) };
+}
+
+/// Takes (and resets) this thread's tracking counts.
+pub fn take_thread_stats() -> TrackingStats {
+    let (collisions, null_sum) = STATS.with(|s| s.replace((0, 0.0)));
+    TrackingStats {
+        collisions,
+        null_sum,
+    }
+}
+
+/// Local tally of one estimator call, flushed to the thread's counts on drop.
+#[derive(Default)]
+struct Tally {
+    collisions: u32,
+    null_sum: f32,
+}
+
+impl Tally {
+    #[inline]
+    fn add(&mut self, sigma_t_max: f32, sigma_maj: f32) {
+        self.collisions += 1;
+        self.null_sum += (1.0 - sigma_t_max / sigma_maj).clamp(0.0, 1.0);
+    }
+}
+
+impl Drop for Tally {
+    fn drop(&mut self) {
+        if self.collisions > 0 {
+            STATS.with(|s| {
+                let (n, sum) = s.get();
+                s.set((n + self.collisions as u64, sum + self.null_sum as f64));
+            });
+        }
+    }
+}
 
 /// Walks the tentative collisions of one medium along a ray: a Poisson
 /// process with rate σ̄(t) given by the medium's majorant segments.
@@ -129,9 +200,11 @@ pub fn medium_transmittance(
 pub fn ratio_tracking(medium: &Medium, ray: &Ray, t_max: f32, sampler: &mut Sampler) -> Rgb {
     let mut tracker = Tracker::new(medium, ray, t_max);
     let mut tr = Rgb::WHITE;
+    let mut tally = Tally::default();
     while let Some(c) = tracker.next(sampler) {
         let props = medium.properties(ray.at(c.t));
         let sigma_t = props.sigma_a + props.sigma_s;
+        tally.add(sigma_t.max_channel(), c.sigma_maj);
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
             break;
@@ -150,9 +223,11 @@ pub fn delta_tracking_transmittance(
     sampler: &mut Sampler,
 ) -> Rgb {
     let mut tracker = Tracker::new(medium, ray, t_max);
+    let mut tally = Tally::default();
     while let Some(c) = tracker.next(sampler) {
         let props = medium.properties(ray.at(c.t));
         let sigma_t = (props.sigma_a + props.sigma_s).max_channel();
+        tally.add(sigma_t, c.sigma_maj);
         if sampler.next_1d() < sigma_t / c.sigma_maj {
             return Rgb::BLACK;
         }
@@ -169,6 +244,7 @@ pub fn residual_ratio_tracking(
     sampler: &mut Sampler,
 ) -> Rgb {
     let mut tr = Rgb::WHITE;
+    let mut tally = Tally::default();
     for seg in medium.majorants(ray, t_max) {
         if seg.decay != 0.0 || seg.t1.is_infinite() {
             // No control for varying majorants, and an unbounded segment (a global
@@ -193,6 +269,7 @@ pub fn residual_ratio_tracking(
             }
             let props = medium.properties(ray.at(t));
             let residual = props.sigma_a + props.sigma_s - control;
+            tally.add(residual.max_channel(), residual_maj);
             tr *= Rgb::WHITE - residual / residual_maj;
             if negligible(tr) {
                 return tr;
@@ -215,9 +292,11 @@ fn ratio_tracking_segment(
         t: seg.t0,
     };
     let mut tr = Rgb::WHITE;
+    let mut tally = Tally::default();
     while let Some(c) = tracker.next(sampler) {
         let props = medium.properties(ray.at(c.t));
         let sigma_t = props.sigma_a + props.sigma_s;
+        tally.add(sigma_t.max_channel(), c.sigma_maj);
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
             break;
@@ -297,6 +376,7 @@ pub fn sample_free_flight(
             }
         }
     }
+    let mut tally = Tally::default();
     loop {
         let mut best: Option<usize> = None;
         let mut best_t = t_max;
@@ -318,6 +398,7 @@ pub fn sample_free_flight(
             *radiance += *throughput * props.sigma_a * props.emission * inv_maj;
         }
         let sigma_t = props.sigma_a + props.sigma_s;
+        tally.add(sigma_t.max_channel(), collision.sigma_maj);
         let w_scatter = *throughput * props.sigma_s * inv_maj;
         let w_null = *throughput * (Rgb::splat(collision.sigma_maj) - sigma_t) * inv_maj;
         let p_scatter_raw = w_scatter.map(f32::abs).average();
