@@ -424,6 +424,13 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         exr.display(),
         png.display()
     );
+    if out.tracking.collisions > 0 {
+        eprintln!(
+            "tracking: {:.2} tentative collisions per sample, null fraction {:.3}",
+            out.tracking.collisions as f64 / out.samples.max(1) as f64,
+            out.tracking.null_fraction()
+        );
+    }
     if out.nonfinite_samples > 0 {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",

@@ -8,6 +8,7 @@
 use crate::color::Rgb;
 use crate::film::{Film, Provenance, Rect, SampleRange};
 use crate::image_io::Image;
+use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::{li, Scene};
 use crate::sampling::Sampler;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -45,6 +46,8 @@ pub struct RenderOutput {
     pub nonfinite_samples: u64,
     /// Total radiance samples taken.
     pub samples: u64,
+    /// Tentative collisions of the media tracking and their null fraction.
+    pub tracking: TrackingStats,
 }
 
 /// Per-pixel running sums.
@@ -166,6 +169,7 @@ fn render_in_pool(
     let bar = progress_bar(options, bands);
     let mut spp_done = 0u32;
     let mut partial = false;
+    let mut tracking = TrackingStats::default();
     loop {
         let budget_left = match options.time_budget {
             Some(t) => start.elapsed() < t && (!options.spp_is_cap || spp_done < options.spp),
@@ -184,19 +188,28 @@ fn render_in_pool(
         };
         let mut pass = vec![Pixel::default(); w * h];
         let bands_done = AtomicUsize::new(0);
-        pass.par_chunks_mut(w * BAND_ROWS)
+        let pass_stats = pass
+            .par_chunks_mut(w * BAND_ROWS)
             .enumerate()
-            .for_each(|(band, rows)| {
+            .map(|(band, rows)| {
                 if cancel.load(Ordering::Relaxed) {
-                    return;
+                    return TrackingStats::default();
                 }
+                // A band runs on one thread from start to end: its counts are the thread's.
+                take_thread_stats();
                 for (i, px) in rows.iter_mut().enumerate() {
                     let (x, y) = ((i % w) as u32, (band * BAND_ROWS + i / w) as u32);
                     *px = render_pixel(scene, x0 + x, y0 + y, first + spp_done, count);
                 }
                 bands_done.fetch_add(1, Ordering::Relaxed);
                 bar.inc(1);
+                take_thread_stats()
+            })
+            .reduce(TrackingStats::default, |mut a, b| {
+                a.merge(b);
+                a
             });
+        tracking.merge(pass_stats);
         // A pass cut short is dropped whole, so every pixel of the image has
         // exactly `spp_done` samples; a pass that finished is kept even if the
         // stop request came in just after its last band.
@@ -226,6 +239,7 @@ fn render_in_pool(
         elapsed: start.elapsed(),
         nonfinite_samples: nonfinite,
         samples: spp_done as u64 * (w * h) as u64,
+        tracking,
     }
 }
 

@@ -10,12 +10,18 @@ use crate::color::Rgb;
 use crate::math::Ray;
 use crate::medium::{MajorantIter, MajorantSegment, Medium, MediumProperties};
 use crate::sampling::Sampler;
+use kernel::{dispatch, TrackedMedium};
+use stats::Tally;
+pub use stats::{take_thread_stats, TrackingStats};
+
+mod kernel;
+mod stats;
 
 /// Walks the tentative collisions of one medium along a ray: a Poisson
 /// process with rate σ̄(t) given by the medium's majorant segments.
 #[derive(Clone, Debug)]
-pub struct Tracker {
-    segments: MajorantIter,
+pub struct Tracker<'a> {
+    segments: MajorantIter<'a>,
     current: Option<MajorantSegment>,
     t: f32,
 }
@@ -31,9 +37,9 @@ pub struct Collision {
     pub sigma_control: Rgb,
 }
 
-impl Tracker {
+impl<'a> Tracker<'a> {
     /// Tracks `medium` along `ray` over `[0, t_max)`.
-    pub fn new(medium: &Medium, ray: &Ray, t_max: f32) -> Tracker {
+    pub fn new(medium: &'a Medium, ray: &Ray, t_max: f32) -> Tracker<'a> {
         let mut segments = medium.majorants(ray, t_max);
         let current = segments.next();
         let t = current.map_or(f32::INFINITY, |s| s.t0);
@@ -41,6 +47,15 @@ impl Tracker {
             segments,
             current,
             t,
+        }
+    }
+
+    /// Tracks one segment only.
+    fn single(seg: MajorantSegment) -> Tracker<'a> {
+        Tracker {
+            segments: MajorantIter::Single(None),
+            current: Some(seg),
+            t: seg.t0,
         }
     }
 
@@ -127,11 +142,22 @@ pub fn medium_transmittance(
 
 /// Ratio tracking: T = Π (1 - σt(x_i)/σ̄(x_i)) over tentative collisions, per channel.
 pub fn ratio_tracking(medium: &Medium, ray: &Ray, t_max: f32, sampler: &mut Sampler) -> Rgb {
-    let mut tracker = Tracker::new(medium, ray, t_max);
+    let tracker = Tracker::new(medium, ray, t_max);
+    dispatch!(medium, m => ratio_track(m, tracker, ray, sampler))
+}
+
+/// The ratio-tracking loop over the collisions of `tracker`, for one concrete medium.
+fn ratio_track<M: TrackedMedium>(
+    medium: &M,
+    mut tracker: Tracker,
+    ray: &Ray,
+    sampler: &mut Sampler,
+) -> Rgb {
     let mut tr = Rgb::WHITE;
+    let mut tally = Tally::default();
     while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t));
-        let sigma_t = props.sigma_a + props.sigma_s;
+        let sigma_t = medium.sigma_t(ray.at(c.t));
+        tally.add(sigma_t.max_channel(), c.sigma_maj);
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
             break;
@@ -149,10 +175,20 @@ pub fn delta_tracking_transmittance(
     t_max: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
-    let mut tracker = Tracker::new(medium, ray, t_max);
+    let tracker = Tracker::new(medium, ray, t_max);
+    dispatch!(medium, m => delta_track(m, tracker, ray, sampler))
+}
+
+fn delta_track<M: TrackedMedium>(
+    medium: &M,
+    mut tracker: Tracker,
+    ray: &Ray,
+    sampler: &mut Sampler,
+) -> Rgb {
+    let mut tally = Tally::default();
     while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t));
-        let sigma_t = (props.sigma_a + props.sigma_s).max_channel();
+        let sigma_t = medium.sigma_t(ray.at(c.t)).max_channel();
+        tally.add(sigma_t, c.sigma_maj);
         if sampler.next_1d() < sigma_t / c.sigma_maj {
             return Rgb::BLACK;
         }
@@ -168,13 +204,24 @@ pub fn residual_ratio_tracking(
     t_max: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
+    let segments = medium.majorants(ray, t_max);
+    dispatch!(medium, m => residual_ratio_track(m, segments, ray, sampler))
+}
+
+fn residual_ratio_track<M: TrackedMedium>(
+    medium: &M,
+    segments: MajorantIter,
+    ray: &Ray,
+    sampler: &mut Sampler,
+) -> Rgb {
     let mut tr = Rgb::WHITE;
-    for seg in medium.majorants(ray, t_max) {
+    let mut tally = Tally::default();
+    for seg in segments {
         if seg.decay != 0.0 || seg.t1.is_infinite() {
             // No control for varying majorants, and an unbounded segment (a global
             // medium) has nothing left to track once the control is taken out:
             // plain ratio tracking, which knows when to stop.
-            tr *= ratio_tracking_segment(&seg, medium, ray, sampler);
+            tr *= ratio_track(medium, Tracker::single(seg), ray, sampler);
             continue;
         }
         let control = seg.sigma_control;
@@ -191,36 +238,12 @@ pub fn residual_ratio_tracking(
             if t >= seg.t1 {
                 break;
             }
-            let props = medium.properties(ray.at(t));
-            let residual = props.sigma_a + props.sigma_s - control;
+            let residual = medium.sigma_t(ray.at(t)) - control;
+            tally.add(residual.max_channel(), residual_maj);
             tr *= Rgb::WHITE - residual / residual_maj;
             if negligible(tr) {
                 return tr;
             }
-        }
-    }
-    tr
-}
-
-/// Ratio tracking restricted to one segment.
-fn ratio_tracking_segment(
-    seg: &MajorantSegment,
-    medium: &Medium,
-    ray: &Ray,
-    sampler: &mut Sampler,
-) -> Rgb {
-    let mut tracker = Tracker {
-        segments: MajorantIter::Single(None),
-        current: Some(*seg),
-        t: seg.t0,
-    };
-    let mut tr = Rgb::WHITE;
-    while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t));
-        let sigma_t = props.sigma_a + props.sigma_s;
-        tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
-        if negligible(tr) || inert(tr, sigma_t) {
-            break;
         }
     }
     tr
@@ -285,8 +308,15 @@ pub fn sample_free_flight(
     radiance: &mut Rgb,
     sampler: &mut Sampler,
 ) -> FreeFlight {
+    if let [medium] = media {
+        // One medium (the common case): no earliest-collision search, no tracker array.
+        let tracker = Tracker::new(medium, ray, t_max);
+        return dispatch!(medium, m => {
+            free_flight_one(m, tracker, ray, t_max, throughput, radiance, sampler)
+        });
+    }
     let mut trackers: [Option<(usize, Tracker, Collision)>; MAX_OVERLAPPING_MEDIA] =
-        Default::default();
+        [const { None }; MAX_OVERLAPPING_MEDIA];
     let mut count = 0;
     for (index, medium) in media.iter().enumerate() {
         let mut tracker = Tracker::new(medium, ray, t_max);
@@ -297,6 +327,7 @@ pub fn sample_free_flight(
             }
         }
     }
+    let mut tally = Tally::default();
     loop {
         let mut best: Option<usize> = None;
         let mut best_t = t_max;
@@ -313,38 +344,103 @@ pub fn sample_free_flight(
         };
         let (medium_index, tracker, collision) = trackers[slot].as_mut().expect("chosen slot");
         let props = media[*medium_index].properties(ray.at(collision.t));
-        let inv_maj = 1.0 / collision.sigma_maj;
-        if !props.emission.is_black() {
-            *radiance += *throughput * props.sigma_a * props.emission * inv_maj;
+        match collide(&props, collision, throughput, radiance, sampler, &mut tally) {
+            Step::Scatter => {
+                return FreeFlight::Scatter {
+                    t: collision.t,
+                    medium: *medium_index,
+                    properties: props,
+                }
+            }
+            Step::Absorbed => return FreeFlight::Absorbed,
+            Step::Inert => trackers[slot] = None,
+            Step::Null => match tracker.next(sampler) {
+                Some(c) => *collision = c,
+                None => trackers[slot] = None,
+            },
         }
-        let sigma_t = props.sigma_a + props.sigma_s;
-        let w_scatter = *throughput * props.sigma_s * inv_maj;
-        let w_null = *throughput * (Rgb::splat(collision.sigma_maj) - sigma_t) * inv_maj;
-        let p_scatter_raw = w_scatter.map(f32::abs).average();
-        let p_null_raw = w_null.map(f32::abs).average();
-        let total = p_scatter_raw + p_null_raw;
-        if total < f32::MIN_POSITIVE || !total.is_finite() {
-            *throughput = Rgb::BLACK;
-            return FreeFlight::Absorbed;
+    }
+}
+
+/// Free-flight sampling through a single medium.
+fn free_flight_one<M: TrackedMedium>(
+    medium: &M,
+    mut tracker: Tracker,
+    ray: &Ray,
+    t_max: f32,
+    throughput: &mut Rgb,
+    radiance: &mut Rgb,
+    sampler: &mut Sampler,
+) -> FreeFlight {
+    let mut tally = Tally::default();
+    while let Some(collision) = tracker.next(sampler) {
+        // As the multi-medium search: a collision clamped onto t_max is not inside.
+        if collision.t >= t_max {
+            break;
         }
-        let p_scatter = p_scatter_raw / total;
-        if sampler.next_1d() < p_scatter {
-            *throughput = w_scatter / p_scatter;
-            return FreeFlight::Scatter {
-                t: collision.t,
-                medium: *medium_index,
-                properties: props,
-            };
+        let props = medium.properties(ray.at(collision.t));
+        match collide(
+            &props, &collision, throughput, radiance, sampler, &mut tally,
+        ) {
+            Step::Scatter => {
+                return FreeFlight::Scatter {
+                    t: collision.t,
+                    medium: 0,
+                    properties: props,
+                }
+            }
+            Step::Absorbed => return FreeFlight::Absorbed,
+            Step::Inert => break,
+            Step::Null => {}
         }
-        *throughput = w_null / (1.0 - p_scatter);
-        if inert(*throughput, sigma_t) {
-            trackers[slot] = None;
-            continue;
-        }
-        match tracker.next(sampler) {
-            Some(c) => *collision = c,
-            None => trackers[slot] = None,
-        }
+    }
+    FreeFlight::Passed
+}
+
+/// What one tentative collision of a free flight turned out to be.
+enum Step {
+    Scatter,
+    Absorbed,
+    /// Null, and the medium can no longer change the throughput (see `inert`).
+    Inert,
+    Null,
+}
+
+/// Classifies a tentative collision by spectral tracking, updating the throughput and adding emission.
+#[inline]
+fn collide(
+    props: &MediumProperties,
+    collision: &Collision,
+    throughput: &mut Rgb,
+    radiance: &mut Rgb,
+    sampler: &mut Sampler,
+    tally: &mut Tally,
+) -> Step {
+    let inv_maj = 1.0 / collision.sigma_maj;
+    if !props.emission.is_black() {
+        *radiance += *throughput * props.sigma_a * props.emission * inv_maj;
+    }
+    let sigma_t = props.sigma_a + props.sigma_s;
+    tally.add(sigma_t.max_channel(), collision.sigma_maj);
+    let w_scatter = *throughput * props.sigma_s * inv_maj;
+    let w_null = *throughput * (Rgb::splat(collision.sigma_maj) - sigma_t) * inv_maj;
+    let p_scatter_raw = w_scatter.map(f32::abs).average();
+    let p_null_raw = w_null.map(f32::abs).average();
+    let total = p_scatter_raw + p_null_raw;
+    if total < f32::MIN_POSITIVE || !total.is_finite() {
+        *throughput = Rgb::BLACK;
+        return Step::Absorbed;
+    }
+    let p_scatter = p_scatter_raw / total;
+    if sampler.next_1d() < p_scatter {
+        *throughput = w_scatter / p_scatter;
+        return Step::Scatter;
+    }
+    *throughput = w_null / (1.0 - p_scatter);
+    if inert(*throughput, sigma_t) {
+        Step::Inert
+    } else {
+        Step::Null
     }
 }
 
@@ -367,7 +463,7 @@ pub fn ratio_tracking_scaled_majorant(
             sigma_maj: seg.sigma_maj * scale.max(1.0),
             ..seg
         };
-        tr *= ratio_tracking_segment(&inflated, medium, ray, sampler);
+        tr *= dispatch!(medium, m => ratio_track(m, Tracker::single(inflated), ray, sampler));
     }
     tr
 }

@@ -19,8 +19,6 @@
 //! space (the direction is mapped, not renormalized), so the majorant
 //! segments found there apply to the world ray unchanged.
 
-use std::sync::Arc;
-
 use glam::{DMat4, IVec3, Mat4};
 
 use super::blackbody::BlackbodyTable;
@@ -117,7 +115,7 @@ pub struct GridMedium {
     albedo: Rgb,
     phase: PhaseFunction,
     emission: EmissionSource,
-    majorants: Arc<MajorantGrid>,
+    majorants: MajorantGrid,
 }
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
@@ -127,10 +125,14 @@ fn index_map(grid: &FloatGrid, to_world: &Affine3A) -> Affine3A {
     Affine3A::from_mat4(inv.as_mat4())
 }
 
-/// Majorant cell size in voxels: about 16 cells along the longest axis, kept within 8..=32
-/// (smaller cells gain little once widened by the trilinear support; larger ones bound loosely).
+/// Majorant cell size in voxels: about 32 cells along the longest axis, kept within 4..=32.
+///
+/// On the B3 smoke (73 voxels wide) 4-voxel cells (6 once widened by the trilinear
+/// support) cut the null-collision fraction from 0.52 (8-voxel cells) to 0.41 and
+/// the tentative collisions by a fifth, for about as many instructions per sample:
+/// the DDA steps the smaller cells add cost what the saved lookups did.
 pub fn default_cell_size(extent: IVec3) -> i32 {
-    ((extent.max_element() + 15) / 16).clamp(8, 32)
+    ((extent.max_element() + 31) / 32).clamp(4, 32)
 }
 
 impl GridMedium {
@@ -152,7 +154,7 @@ impl GridMedium {
             ),
             MajorantMode::Global => extent.as_vec3(),
         };
-        let majorants = Arc::new(MajorantGrid::build(&density, lo, hi, cell));
+        let majorants = MajorantGrid::build(&density, lo, hi, cell);
         let emission = match params.emission {
             GridEmission::None => EmissionSource::None,
             GridEmission::Constant(le) => EmissionSource::Constant(le),
@@ -218,6 +220,12 @@ impl GridMedium {
         }
     }
 
+    /// Extinction at world point `p` (one density lookup, no emission).
+    #[inline]
+    pub fn sigma_t(&self, p: Vec3) -> Rgb {
+        self.sigma_t_unit * self.density(p)
+    }
+
     /// Coefficients at world point `p`.
     #[inline]
     pub fn properties(&self, p: Vec3) -> MediumProperties {
@@ -276,7 +284,7 @@ impl GridMedium {
     }
 
     /// Majorant segments along `ray` within `[0, t_max)`: one per non-empty majorant cell crossed.
-    pub fn majorants(&self, ray: &Ray, t_max: f32) -> GridMajorants {
+    pub fn majorants(&self, ray: &Ray, t_max: f32) -> GridMajorants<'_> {
         let index_ray = Ray::new(
             self.world_to_index.transform_point3(ray.origin),
             self.world_to_index.transform_vector3(ray.direction),
@@ -290,7 +298,8 @@ impl GridMedium {
                     .walk(index_ray.origin, index_ray.direction, t0, t1)
             });
         GridMajorants {
-            grid: self.majorants.clone(),
+            // Borrowed, not an Arc clone: no atomic on a shared cache line per ray.
+            grid: &self.majorants,
             dda,
             sigma_t_unit: self.sigma_t_unit,
         }
@@ -299,13 +308,13 @@ impl GridMedium {
 
 /// The majorant segments of a grid medium along one ray (a DDA over majorant cells).
 #[derive(Clone, Debug)]
-pub struct GridMajorants {
-    grid: Arc<MajorantGrid>,
+pub struct GridMajorants<'a> {
+    grid: &'a MajorantGrid,
     dda: Option<Dda>,
     sigma_t_unit: Rgb,
 }
 
-impl Iterator for GridMajorants {
+impl Iterator for GridMajorants<'_> {
     type Item = MajorantSegment;
 
     #[inline]
