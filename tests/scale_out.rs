@@ -244,6 +244,12 @@ fn merge_refuses_overlap_other_scenes_seeds_and_missing_pieces() {
         "{absent}"
     );
 
+    let twice = refusal(dir.path(), &[a.clone(), c.clone(), c.clone()]);
+    assert!(
+        twice.contains(&format!("{} is named twice", name(&c))),
+        "{twice}"
+    );
+
     let seed = refusal(dir.path(), &[a.clone(), d]);
     assert!(
         seed.contains("seed 7 differs from") && seed.contains("'s 0"),
