@@ -267,6 +267,11 @@ fn merge_refuses_overlap_other_scenes_seeds_and_missing_pieces() {
     let scene_hash = refusal(dir.path(), &[a.clone(), f]);
     assert!(scene_hash.contains("scene hash"), "{scene_hash}");
 
+    let junk = dir.path().join("junk.exr");
+    std::fs::write(&junk, b"not an EXR at all").unwrap();
+    let damaged = refusal(dir.path(), &[a.clone(), junk]);
+    assert!(damaged.contains("junk.exr: cannot read EXR"), "{damaged}");
+
     let plain = dir.path().join("plain.exr");
     brume::image_io::write_exr(&plain, &film(&a).beauty_image()).unwrap();
     let not_film = refusal(dir.path(), &[a, plain]);
