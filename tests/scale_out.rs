@@ -340,3 +340,15 @@ fn piece_options_are_checked_before_rendering() {
         assert!(!dir.path().join("scene.exr").exists());
     }
 }
+
+#[test]
+fn a_timed_render_is_a_whole_render_of_the_samples_it_reached() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = plume_scene(dir.path(), 0.9);
+    let timed = render(&scene, &["--time", "0.3", "--spp", "1000000"], "timed");
+    let p = film(&timed).provenance;
+    assert!(p.complete(), "{p:?}");
+    assert_eq!(p.spp_total, p.held[0].end, "{p:?}");
+    let merged = film(&merge(dir.path(), &[timed.clone()]));
+    assert_bit_identical(&film(&timed), &merged);
+}
