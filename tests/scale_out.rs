@@ -349,6 +349,6 @@ fn a_timed_render_is_a_whole_render_of_the_samples_it_reached() {
     let p = film(&timed).provenance;
     assert!(p.complete(), "{p:?}");
     assert_eq!(p.spp_total, p.held[0].end, "{p:?}");
-    let merged = film(&merge(dir.path(), &[timed.clone()]));
+    let merged = film(&merge(dir.path(), std::slice::from_ref(&timed)));
     assert_bit_identical(&film(&timed), &merged);
 }
