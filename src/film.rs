@@ -8,6 +8,9 @@
 //! their own names, and the EXR writer and `merge` handle every layer alike. A
 //! layer that needs another denominator than the sample count carries it as
 //! one of its own channels.
+//!
+//! In the EXR a layer's channels are `NAME.CH` (the beauty's bare `R`, `G`,
+//! `B`); a bare channel such as `A` is a channel added to the beauty layer.
 
 use crate::color::Rgb;
 use crate::image_io::Image;
@@ -246,6 +249,11 @@ impl Film {
     /// The layer called `name`.
     pub fn layer(&self, name: &str) -> Option<&Layer> {
         self.layers.iter().find(|l| l.name == name)
+    }
+
+    /// The layer called `name`, to accumulate into.
+    pub fn layer_mut(&mut self, name: &str) -> Option<&mut Layer> {
+        self.layers.iter_mut().find(|l| l.name == name)
     }
 
     /// Index into the per-pixel vectors of display pixel (x, y), if inside the window.

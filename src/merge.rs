@@ -253,6 +253,12 @@ pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result
             absent.display()
         )));
     }
+    let mut seen = std::collections::HashSet::new();
+    for p in pieces {
+        if !seen.insert(p.canonicalize().unwrap_or_else(|_| p.clone())) {
+            return Err(refuse(format!("{} is named twice", p.display())));
+        }
+    }
     let films = pieces
         .iter()
         .map(|p| Ok((p.clone(), crate::image_io::read_film_exr(p)?)))

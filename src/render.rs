@@ -148,9 +148,13 @@ pub fn render_part(
         spp: part.samples.len(),
         ..options.clone()
     };
+    let timed = options.time_budget.is_some();
     let mut out = pool.install(|| render_in_pool(scene, &options, part, cancel));
-    let provenance = &mut out.film.provenance;
-    provenance.spp_total = provenance.spp_total.max(spp_total);
+    // A timed render's size is what it reached; a piece belongs to a render of `spp_total`.
+    if !timed {
+        let provenance = &mut out.film.provenance;
+        provenance.spp_total = provenance.spp_total.max(spp_total);
+    }
     out
 }
 

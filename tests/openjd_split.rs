@@ -13,31 +13,41 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use support::*;
 
-/// The openjd command (BRUME_OPENJD overrides the name), or None if it does not run.
-fn openjd() -> Option<String> {
-    let program = std::env::var("BRUME_OPENJD").unwrap_or_else(|_| "openjd".into());
-    let runs = Command::new(&program)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    runs.then_some(program)
+/// The openjd command line: BRUME_OPENJD, `openjd`, or `python3 -m openjd`, whichever runs.
+fn openjd() -> Option<Vec<String>> {
+    let candidates = match std::env::var("BRUME_OPENJD") {
+        Ok(program) => vec![vec![program]],
+        Err(_) => vec![
+            vec!["openjd".into()],
+            vec!["python3".into(), "-m".into(), "openjd".into()],
+        ],
+    };
+    candidates.into_iter().find(|c| {
+        Command::new(&c[0])
+            .args(&c[1..])
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    })
 }
 
 /// A command that runs `program` without network if this machine allows it.
-fn offline(program: &str) -> Command {
+fn offline(program: &[String]) -> Command {
     let unshare = Command::new("unshare")
         .args(["-n", "true"])
         .output()
         .is_ok_and(|o| o.status.success());
     if unshare {
         let mut cmd = Command::new("unshare");
-        cmd.args(["-n", program]);
+        cmd.arg("-n").args(program);
         cmd
     } else {
         eprintln!(
             "note: unshare -n is not allowed here; running openjd with the machine's network"
         );
-        Command::new(program)
+        let mut cmd = Command::new(&program[0]);
+        cmd.args(&program[1..]);
+        cmd
     }
 }
 

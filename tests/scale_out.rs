@@ -244,6 +244,12 @@ fn merge_refuses_overlap_other_scenes_seeds_and_missing_pieces() {
         "{absent}"
     );
 
+    let twice = refusal(dir.path(), &[a.clone(), c.clone(), c.clone()]);
+    assert!(
+        twice.contains(&format!("{} is named twice", name(&c))),
+        "{twice}"
+    );
+
     let seed = refusal(dir.path(), &[a.clone(), d]);
     assert!(
         seed.contains("seed 7 differs from") && seed.contains("'s 0"),
@@ -260,6 +266,11 @@ fn merge_refuses_overlap_other_scenes_seeds_and_missing_pieces() {
     let f = render(&other, &["--samples", "32..64"], "f");
     let scene_hash = refusal(dir.path(), &[a.clone(), f]);
     assert!(scene_hash.contains("scene hash"), "{scene_hash}");
+
+    let junk = dir.path().join("junk.exr");
+    std::fs::write(&junk, b"not an EXR at all").unwrap();
+    let damaged = refusal(dir.path(), &[a.clone(), junk]);
+    assert!(damaged.contains("junk.exr: cannot read EXR"), "{damaged}");
 
     let plain = dir.path().join("plain.exr");
     brume::image_io::write_exr(&plain, &film(&a).beauty_image()).unwrap();
@@ -328,4 +339,16 @@ fn piece_options_are_checked_before_rendering() {
         assert!(stderr.contains(flag), "{args:?}: {stderr}");
         assert!(!dir.path().join("scene.exr").exists());
     }
+}
+
+#[test]
+fn a_timed_render_is_a_whole_render_of_the_samples_it_reached() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = plume_scene(dir.path(), 0.9);
+    let timed = render(&scene, &["--time", "0.3", "--spp", "1000000"], "timed");
+    let p = film(&timed).provenance;
+    assert!(p.complete(), "{p:?}");
+    assert_eq!(p.spp_total, p.held[0].end, "{p:?}");
+    let merged = film(&merge(dir.path(), std::slice::from_ref(&timed)));
+    assert_bit_identical(&film(&timed), &merged);
 }

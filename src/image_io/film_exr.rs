@@ -132,6 +132,13 @@ pub fn read_film_exr(path: &Path) -> Result<Film> {
     if display.position != Vec2(0, 0) || pos.0 < 0 || pos.1 < 0 {
         return Err(bad("the display window must start at pixel 0,0".into()));
     }
+    // Scenes are at most 32768 pixels a side; a larger window is a damaged header.
+    if display.size.0 > 32768 || display.size.1 > 32768 {
+        return Err(bad(format!(
+            "display window {}x{} is larger than brume renders (32768 a side)",
+            display.size.0, display.size.1
+        )));
+    }
     let display = (display.size.0 as u32, display.size.1 as u32);
     let window = Rect {
         x0: pos.0 as u32,
