@@ -4,8 +4,9 @@
 //! and renamed over the destination only on success, so a failed or
 //! interrupted write never destroys an existing image.
 
-use crate::color::{linear_to_srgb, Rgb};
+use crate::color::Rgb;
 use crate::error::{Error, Result};
+use crate::tonemap::Tonemap;
 use std::path::{Path, PathBuf};
 
 /// A finished (or partial) image in linear RGB with what produced it.
@@ -133,26 +134,42 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
 
 /// Writes an 8-bit sRGB PNG after scaling by 2^exposure and clamping.
 pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
+    write_png_tonemapped(path, image, exposure, Tonemap::Clip)
+}
+
+/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and the tone curve `tonemap`.
+pub fn write_png_tonemapped(
+    path: &Path,
+    image: &Image,
+    exposure: f32,
+    tonemap: Tonemap,
+) -> Result<()> {
     let scale = exposure.exp2();
     let mut bytes = Vec::with_capacity(image.width * image.height * 3);
     for c in &image.pixels {
         for v in [c.r, c.g, c.b] {
-            bytes.push((linear_to_srgb(v * scale) * 255.0 + 0.5) as u8);
+            bytes.push(tonemap.srgb8(v, scale));
         }
     }
-    write_atomically(path, |tmp| {
-        let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
-        let mut encoder = png::Encoder::new(
-            std::io::BufWriter::new(file),
-            image.width as u32,
-            image.height as u32,
-        );
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-        writer.write_image_data(&bytes).map_err(|e| e.to_string())?;
-        writer.finish().map_err(|e| e.to_string())
-    })
+    write_png_srgb8(path, image.width as u32, image.height as u32, &bytes)
+}
+
+/// Writes ready-made 8-bit sRGB pixels (row-major RGB, e.g. a plot) as a PNG.
+pub fn write_png_srgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+    if rgb.len() != width as usize * height as usize * 3 {
+        return Err(output_error(path, "pixel buffer does not match the size"));
+    }
+    write_atomically(path, |tmp| encode_png(tmp, width, height, rgb))
+}
+
+fn encode_png(tmp: &Path, width: u32, height: u32, rgb: &[u8]) -> std::result::Result<(), String> {
+    let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    writer.write_image_data(rgb).map_err(|e| e.to_string())?;
+    writer.finish().map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

@@ -8,7 +8,10 @@
 
 pub mod airlight;
 pub mod camera;
+pub mod checkpoint;
 pub mod color;
+pub mod compare;
+pub mod display;
 pub mod error;
 pub mod geometry;
 pub mod image_io;
@@ -20,4 +23,5 @@ pub mod medium;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod tonemap;
 pub mod volume;

@@ -26,6 +26,22 @@ enum Command {
     Info(InfoArgs),
     /// Render the airlight demo: targets fading with distance in haze, compared with Koschmieder's law.
     Airlight(AirlightArgs),
+    /// Compare A.exr with the reference B.exr: RMSE, relative MSE, means, max difference.
+    Compare(CompareArgs),
+}
+
+#[derive(clap::Args)]
+struct CompareArgs {
+    /// The image to judge (EXR).
+    a: PathBuf,
+    /// The reference image (EXR).
+    b: PathBuf,
+    /// Write a false-colour picture of the per-pixel error here (PNG).
+    #[arg(long)]
+    diff: Option<PathBuf>,
+    /// Exit with code 1 when the RMSE is above this (or an image holds NaN or infinity).
+    #[arg(long)]
+    max_rmse: Option<f64>,
 }
 
 #[derive(clap::Args)]
@@ -87,12 +103,21 @@ struct RenderArgs {
     /// Render progressive passes until this many seconds are spent (--spp then caps it).
     #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
+    /// Tone curve of the PNG preview: aces (filmic, rolls highlights off) or clip.
+    #[arg(long, default_value = "aces", value_name = "aces|clip")]
+    tonemap: String,
     /// Exposure of the PNG preview in stops.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     exposure: f32,
     /// No progress bar and no summary.
     #[arg(long, short)]
     quiet: bool,
+    /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
+    #[arg(long, value_name = "HOST:PORT")]
+    display: Option<String>,
+    /// Rewrite the EXR and PNG (marked incomplete) every SECONDS during the render.
+    #[arg(long, value_name = "SECONDS")]
+    checkpoint: Option<f64>,
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
     #[arg(long, value_name = "X,Y")]
     debug_pixel: Option<String>,
@@ -104,6 +129,7 @@ fn main() {
         Command::Render(args) => run_render(args),
         Command::Info(args) => run_info(args),
         Command::Airlight(args) => run_airlight(args),
+        Command::Compare(args) => run_compare(args),
     };
     match result {
         Ok(code) => std::process::exit(code),
@@ -171,6 +197,40 @@ fn run_airlight(args: AirlightArgs) -> Result<i32> {
     Ok(0)
 }
 
+fn run_compare(args: CompareArgs) -> Result<i32> {
+    if let Some(m) = args.max_rmse {
+        if !(m.is_finite() && m >= 0.0) {
+            return Err(argument("--max-rmse", "must be a number at or above 0"));
+        }
+    }
+    if let Some(diff) = &args.diff {
+        image_io::check_writable(diff)?;
+    }
+    let (c, a, b) = brume::compare::compare_files(&args.a, &args.b)?;
+    print!("{}", c.report());
+    if let Some(diff) = &args.diff {
+        let scale = brume::compare::diff_scale(&a, &b);
+        let rgb = brume::compare::false_colour(&a, &b, scale);
+        let (w, h) = c.size;
+        image_io::write_png_srgb8(diff, w as u32, h as u32, &rgb)?;
+        println!(
+            "wrote {} (saturates at a mean |A-B| of {scale:.4e})",
+            diff.display()
+        );
+    }
+    match args.max_rmse {
+        Some(_) if c.nonfinite > 0 => {
+            println!("FAIL: {} non-finite channel values", c.nonfinite);
+            Ok(1)
+        }
+        Some(m) if c.rmse > m => {
+            println!("FAIL: rmse {:.6e} above --max-rmse {m:e}", c.rmse);
+            Ok(1)
+        }
+        _ => Ok(0),
+    }
+}
+
 fn argument(name: &str, message: &str) -> Error {
     Error::Argument {
         argument: name.into(),
@@ -212,6 +272,8 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if !args.exposure.is_finite() {
         return Err(argument("--exposure", "must be finite"));
     }
+    let tonemap = brume::tonemap::Tonemap::from_name(&args.tonemap)
+        .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?;
     if let Some(pixel) = &args.debug_pixel {
         return debug_pixel(&scene, pixel);
     }
@@ -248,9 +310,29 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         threads: args.threads,
         progress: show,
     };
-    let out = render(&scene, &options, &cancel);
+    let checkpoint = match args.checkpoint {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            return Err(argument(
+                "--checkpoint",
+                "must be a positive number of seconds",
+            ))
+        }
+        Some(t) => Some(brume::checkpoint::Checkpoint::new(
+            Duration::from_secs_f64(t),
+            exr_path.clone(),
+            png_path.clone(),
+            args.exposure,
+            tonemap,
+        )),
+        None => None,
+    };
+    let display = match &args.display {
+        Some(address) => Some(brume::display::Display::connect(address, &stem)?),
+        None => None,
+    };
+    let out = render_live(&scene, &options, &cancel, display, checkpoint);
     image_io::write_exr(&exr_path, &out.image)?;
-    image_io::write_png(&png_path, &out.image, args.exposure)?;
+    image_io::write_png_tonemapped(&png_path, &out.image, args.exposure, tonemap)?;
     if !args.quiet {
         report(&out, &exr_path, &png_path);
     }
@@ -265,6 +347,35 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)
+}
+
+/// Renders, sending each finished pass to tev and to the checkpoint writer.
+/// A viewer that goes away or a failed checkpoint is reported once; the render goes on.
+fn render_live(
+    scene: &brume::integrator::Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    mut display: Option<brume::display::Display>,
+    mut checkpoint: Option<brume::checkpoint::Checkpoint>,
+) -> brume::render::RenderOutput {
+    if display.is_none() && checkpoint.is_none() {
+        return render(scene, options, cancel);
+    }
+    let mut on_pass = |image: &image_io::Image| {
+        if let Some(d) = &mut display {
+            if let Err(e) = d.show(image) {
+                eprintln!("warning: --display: lost the connection to tev ({e}); rendering on");
+                display = None;
+            }
+        }
+        if let Some(c) = &mut checkpoint {
+            if let Err(e) = c.pass_done(image) {
+                eprintln!("warning: --checkpoint: {e}; no more checkpoints");
+                checkpoint = None;
+            }
+        }
+    };
+    brume::render::render_observed(scene, options, cancel, Some(&mut on_pass))
 }
 
 /// `--debug-pixel X,Y`: the samples of one pixel, exactly as a full render takes them.

@@ -97,14 +97,33 @@ impl Pixel {
 
 /// Renders `scene`; stops early (keeping finished passes) once `cancel` is set.
 pub fn render(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
+    render_observed(scene, options, cancel, None)
+}
+
+/// Called after every finished pass with the image so far (marked partial).
+pub type PassObserver<'a> = &'a mut (dyn FnMut(&Image) + Send);
+
+/// [`render`], showing the image so far to `on_pass` after every finished pass
+/// (live preview, checkpoints); the result does not depend on the observer.
+pub fn render_observed(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    on_pass: Option<PassObserver>,
+) -> RenderOutput {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads.unwrap_or(0))
         .build()
         .expect("thread pool");
-    pool.install(|| render_in_pool(scene, options, cancel))
+    pool.install(|| render_in_pool(scene, options, cancel, on_pass))
 }
 
-fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
+fn render_in_pool(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    mut on_pass: Option<PassObserver>,
+) -> RenderOutput {
     let (w, h) = (
         scene.camera.width() as usize,
         scene.camera.height() as usize,
@@ -159,6 +178,15 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
         }
         spp_done += count;
         bar.set_message(format!("{spp_done} spp"));
+        if let Some(observe) = on_pass.as_mut() {
+            observe(&Image {
+                width: w,
+                height: h,
+                pixels: film.iter().map(Pixel::mean).collect(),
+                spp: spp_done,
+                partial: true,
+            });
+        }
     }
     bar.finish_and_clear();
     let nonfinite: u64 = film.iter().map(|p| p.nonfinite as u64).sum();
