@@ -7,6 +7,8 @@
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::tonemap::Tonemap;
+use exr::prelude::ReadChannels as _;
+use exr::prelude::ReadLayers as _;
 use std::path::{Path, PathBuf};
 
 /// A finished (or partial) image in linear RGB with what produced it.
@@ -103,6 +105,91 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     write_atomically(path, |tmp| {
         exr_image.write().to_file(tmp).map_err(|e| e.to_string())
     })
+}
+
+/// One named channel of an EXR beside the beauty's R, G, B: OpenEXR layer
+/// naming, e.g. `A`, `albedo.R`, `normal.X`, `depth.Z`; row-major values.
+pub type NamedChannel = (String, Vec<f32>);
+
+/// Writes the beauty as `R`, `G`, `B` plus `extra` channels in one part
+/// (what compositors read as layers), with the same header records as [`write_exr`].
+pub fn write_exr_with_channels(path: &Path, image: &Image, extra: &[NamedChannel]) -> Result<()> {
+    use exr::meta::attribute::{AttributeValue, Text};
+    use exr::prelude::{
+        AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer, LayerAttributes,
+        SmallVec, WritableImage,
+    };
+    let (w, h) = (image.width, image.height);
+    if let Some((name, _)) = extra.iter().find(|(_, v)| v.len() != w * h) {
+        return Err(output_error(
+            path,
+            format!("channel {name} does not match the image size"),
+        ));
+    }
+    let beauty = |f: fn(&Rgb) -> f32| image.pixels.iter().map(f).collect::<Vec<f32>>();
+    let mut channels = vec![
+        AnyChannel::new("R", FlatSamples::F32(beauty(|c| c.r))),
+        AnyChannel::new("G", FlatSamples::F32(beauty(|c| c.g))),
+        AnyChannel::new("B", FlatSamples::F32(beauty(|c| c.b))),
+    ];
+    for (name, values) in extra {
+        channels.push(AnyChannel::new(
+            name.as_str(),
+            FlatSamples::F32(values.clone()),
+        ));
+    }
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::named("rgb"),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(channels)),
+    );
+    let mut exr_image = ExrImage::from_layer(layer);
+    let other = &mut exr_image.attributes.other;
+    other.insert(
+        Text::from("brume:spp"),
+        AttributeValue::I32(image.spp as i32),
+    );
+    other.insert(
+        Text::from("brume:complete"),
+        AttributeValue::I32(if image.partial { 0 } else { 1 }),
+    );
+    write_atomically(path, |tmp| {
+        exr_image.write().to_file(tmp).map_err(|e| e.to_string())
+    })
+}
+
+/// Reads every channel of every layer of an EXR: width, height and the
+/// channels by their full names (a named layer's channels as `layer.channel`).
+pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>)> {
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| Error::Input {
+            path: path.to_path_buf(),
+            message: format!("cannot read EXR: {e}"),
+        })?;
+    let mut size = (0, 0);
+    let mut out = Vec::new();
+    for layer in &image.layer_data {
+        size = (layer.size.width(), layer.size.height());
+        // brume's own single-part files name their part `rgb`; keep channel names as written.
+        let prefix = match &layer.attributes.layer_name {
+            Some(name) if !name.eq("rgb") && image.layer_data.len() > 1 => {
+                format!("{name}.")
+            }
+            _ => String::new(),
+        };
+        for channel in &layer.channel_data.list {
+            let values = channel.sample_data.values_as_f32().collect();
+            out.push((format!("{prefix}{}", channel.name), values));
+        }
+    }
+    Ok((size.0, size.1, out))
 }
 
 /// Reads an RGB EXR back (for tests and tools): width, height, pixels.

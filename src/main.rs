@@ -112,6 +112,10 @@ struct RenderArgs {
     /// No progress bar and no summary.
     #[arg(long, short)]
     quiet: bool,
+    /// AOVs written as extra EXR layers, comma-separated: alpha,depth,normal,albedo,transmittance
+    /// (replaces the scene's [film] aovs; "none" for none).
+    #[arg(long, value_name = "LIST")]
+    aovs: Option<String>,
     /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
     #[arg(long, value_name = "HOST:PORT")]
     display: Option<String>,
@@ -272,6 +276,9 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if !args.exposure.is_finite() {
         return Err(argument("--exposure", "must be finite"));
     }
+    if let Some(list) = &args.aovs {
+        scene.aovs = parse_aovs(list)?;
+    }
     let tonemap = brume::tonemap::Tonemap::from_name(&args.tonemap)
         .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?;
     if let Some(pixel) = &args.debug_pixel {
@@ -331,7 +338,12 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         None => None,
     };
     let out = render_live(&scene, &options, &cancel, display, checkpoint);
-    image_io::write_exr(&exr_path, &out.image)?;
+    if scene.aovs.is_empty() {
+        image_io::write_exr(&exr_path, &out.image)?;
+    } else {
+        let layers = brume::render::render_aovs(&scene, &scene.aovs, out.image.spp, args.threads);
+        image_io::write_exr_with_channels(&exr_path, &out.image, &layers)?;
+    }
     image_io::write_png_tonemapped(&png_path, &out.image, args.exposure, tonemap)?;
     if !args.quiet {
         report(&out, &exr_path, &png_path);
@@ -347,6 +359,31 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)
+}
+
+/// `--aovs a,b,c`: known names, each once; `none` for none.
+fn parse_aovs(list: &str) -> Result<Vec<brume::integrator::aov::Aov>> {
+    use brume::integrator::aov::Aov;
+    let mut aovs = Vec::new();
+    if list.trim() == "none" {
+        return Ok(aovs);
+    }
+    for name in list.split(',').map(str::trim) {
+        let aov = Aov::from_name(name).ok_or_else(|| {
+            let known: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
+            argument(
+                "--aovs",
+                &format!(
+                    "unknown AOV `{name}`, expected none or a list of {}",
+                    known.join(", ")
+                ),
+            )
+        })?;
+        if !aovs.contains(&aov) {
+            aovs.push(aov);
+        }
+    }
+    Ok(aovs)
 }
 
 /// Renders, sending each finished pass to tev and to the checkpoint writer.

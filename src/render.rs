@@ -7,6 +7,7 @@
 
 use crate::color::Rgb;
 use crate::image_io::Image;
+use crate::integrator::aov::{aov_sample, Aov, AovPixel};
 use crate::integrator::{li, Scene};
 use crate::sampling::Sampler;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -249,6 +250,50 @@ pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
     let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
     let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
     li(scene, ray, &mut sampler)
+}
+
+/// Per-pixel means of `aovs` over samples `0..spp` (the beauty's camera rays,
+/// the AOV streams): one named channel per entry of each `Aov::channels`.
+pub fn render_aovs(
+    scene: &Scene,
+    aovs: &[Aov],
+    spp: u32,
+    threads: Option<usize>,
+) -> Vec<(String, Vec<f32>)> {
+    let (w, h) = (
+        scene.camera.width() as usize,
+        scene.camera.height() as usize,
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .expect("thread pool");
+    let mut film = vec![AovPixel::default(); w * h];
+    pool.install(|| {
+        film.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+            for (x, px) in row.iter_mut().enumerate() {
+                for s in 0..spp {
+                    px.add(&aov_sample(scene, x as u32, y as u32, s));
+                }
+            }
+        })
+    });
+    let mut out = Vec::new();
+    let mut values = Vec::with_capacity(3);
+    for &aov in aovs {
+        let mut channels: Vec<Vec<f32>> = vec![Vec::with_capacity(w * h); aov.channels().len()];
+        for px in &film {
+            values.clear();
+            px.value(aov, &mut values);
+            for (c, v) in channels.iter_mut().zip(&values) {
+                c.push(*v);
+            }
+        }
+        for (name, data) in aov.channels().iter().zip(channels) {
+            out.push((name.to_string(), data));
+        }
+    }
+    out
 }
 
 #[cfg(test)]
