@@ -11,6 +11,7 @@ pub mod camera;
 pub mod checkpoint;
 pub mod color;
 pub mod compare;
+pub mod denoise;
 pub mod display;
 pub mod error;
 pub mod geometry;

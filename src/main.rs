@@ -116,6 +116,10 @@ struct RenderArgs {
     /// (replaces the scene's [film] aovs; "none" for none).
     #[arg(long, value_name = "LIST")]
     aovs: Option<String>,
+    /// Denoise the beauty with Intel Open Image Denoise into a `denoised` layer
+    /// (adds the albedo and normal AOVs; needs a build with `--features denoise`).
+    #[arg(long)]
+    denoise: bool,
     /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
     #[arg(long, value_name = "HOST:PORT")]
     display: Option<String>,
@@ -279,6 +283,20 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if let Some(list) = &args.aovs {
         scene.aovs = parse_aovs(list)?;
     }
+    if args.denoise {
+        if !brume::denoise::AVAILABLE {
+            return Err(argument(
+                "--denoise",
+                "this brume was built without the `denoise` feature (see docs/outputs.md)",
+            ));
+        }
+        use brume::integrator::aov::Aov;
+        for aov in [Aov::Albedo, Aov::Normal] {
+            if !scene.aovs.contains(&aov) {
+                scene.aovs.push(aov);
+            }
+        }
+    }
     let tonemap = brume::tonemap::Tonemap::from_name(&args.tonemap)
         .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?;
     if let Some(pixel) = &args.debug_pixel {
@@ -341,7 +359,11 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if scene.aovs.is_empty() {
         image_io::write_exr(&exr_path, &out.image)?;
     } else {
-        let layers = brume::render::render_aovs(&scene, &scene.aovs, out.image.spp, args.threads);
+        let mut layers =
+            brume::render::render_aovs(&scene, &scene.aovs, out.image.spp, args.threads);
+        if args.denoise {
+            denoise_layer(&out.image, &mut layers, &exr_path)?;
+        }
         image_io::write_exr_with_channels(&exr_path, &out.image, &layers)?;
     }
     image_io::write_png_tonemapped(&png_path, &out.image, args.exposure, tonemap)?;
@@ -359,6 +381,36 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)
+}
+
+/// Appends the `denoised.R/G/B` channels, denoised from the beauty, albedo and normal.
+fn denoise_layer(
+    image: &image_io::Image,
+    layers: &mut Vec<image_io::NamedChannel>,
+    exr: &Path,
+) -> Result<()> {
+    let get = |name: &str| -> &[f32] {
+        layers
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+            .unwrap_or(&[])
+    };
+    let denoised = brume::denoise::denoise(
+        image.width,
+        image.height,
+        &image.pixels,
+        [get("albedo.R"), get("albedo.G"), get("albedo.B")],
+        [get("normal.X"), get("normal.Y"), get("normal.Z")],
+    )
+    .map_err(|message| Error::Output {
+        path: exr.to_path_buf(),
+        message,
+    })?;
+    for (name, values) in brume::denoise::CHANNELS.iter().zip(denoised) {
+        layers.push((name.to_string(), values));
+    }
+    Ok(())
 }
 
 /// `--aovs a,b,c`: known names, each once; `none` for none.
