@@ -42,6 +42,11 @@ impl Camera {
         })
     }
 
+    /// Unit viewing direction (the camera's optical axis).
+    pub fn forward(&self) -> Vec3 {
+        self.forward
+    }
+
     /// Image width in pixels.
     pub fn width(&self) -> u32 {
         self.width

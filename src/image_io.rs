@@ -4,12 +4,15 @@
 //! and renamed over the destination only on success, so a failed or
 //! interrupted write never destroys an existing image.
 
-use crate::color::{linear_to_srgb, Rgb};
+use crate::color::Rgb;
 use crate::error::{Error, Result};
+use crate::tonemap::Tonemap;
+use exr::prelude::ReadChannels as _;
+use exr::prelude::ReadLayers as _;
 use std::path::{Path, PathBuf};
 
 mod film_exr;
-pub use film_exr::{read_film_exr, write_film_exr};
+pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_with};
 
 /// A finished (or partial) image in linear RGB with what produced it.
 pub struct Image {
@@ -107,6 +110,91 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     })
 }
 
+/// One named channel of an EXR beside the beauty's R, G, B: OpenEXR layer
+/// naming, e.g. `A`, `albedo.R`, `normal.X`, `depth.Z`; row-major values.
+pub type NamedChannel = (String, Vec<f32>);
+
+/// Writes the beauty as `R`, `G`, `B` plus `extra` channels in one part
+/// (what compositors read as layers), with the same header records as [`write_exr`].
+pub fn write_exr_with_channels(path: &Path, image: &Image, extra: &[NamedChannel]) -> Result<()> {
+    use exr::meta::attribute::{AttributeValue, Text};
+    use exr::prelude::{
+        AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer, LayerAttributes,
+        SmallVec, WritableImage,
+    };
+    let (w, h) = (image.width, image.height);
+    if let Some((name, _)) = extra.iter().find(|(_, v)| v.len() != w * h) {
+        return Err(output_error(
+            path,
+            format!("channel {name} does not match the image size"),
+        ));
+    }
+    let beauty = |f: fn(&Rgb) -> f32| image.pixels.iter().map(f).collect::<Vec<f32>>();
+    let mut channels = vec![
+        AnyChannel::new("R", FlatSamples::F32(beauty(|c| c.r))),
+        AnyChannel::new("G", FlatSamples::F32(beauty(|c| c.g))),
+        AnyChannel::new("B", FlatSamples::F32(beauty(|c| c.b))),
+    ];
+    for (name, values) in extra {
+        channels.push(AnyChannel::new(
+            name.as_str(),
+            FlatSamples::F32(values.clone()),
+        ));
+    }
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::named("rgb"),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(channels)),
+    );
+    let mut exr_image = ExrImage::from_layer(layer);
+    let other = &mut exr_image.attributes.other;
+    other.insert(
+        Text::from("brume:spp"),
+        AttributeValue::I32(image.spp as i32),
+    );
+    other.insert(
+        Text::from("brume:complete"),
+        AttributeValue::I32(if image.partial { 0 } else { 1 }),
+    );
+    write_atomically(path, |tmp| {
+        exr_image.write().to_file(tmp).map_err(|e| e.to_string())
+    })
+}
+
+/// Reads every channel of every layer of an EXR: width, height and the
+/// channels by their full names (a named layer's channels as `layer.channel`).
+pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>)> {
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| Error::Input {
+            path: path.to_path_buf(),
+            message: format!("cannot read EXR: {e}"),
+        })?;
+    let mut size = (0, 0);
+    let mut out = Vec::new();
+    for layer in &image.layer_data {
+        size = (layer.size.width(), layer.size.height());
+        // brume's own single-part files name their part `rgb`; keep channel names as written.
+        let prefix = match &layer.attributes.layer_name {
+            Some(name) if !name.eq("rgb") && image.layer_data.len() > 1 => {
+                format!("{name}.")
+            }
+            _ => String::new(),
+        };
+        for channel in &layer.channel_data.list {
+            let values = channel.sample_data.values_as_f32().collect();
+            out.push((format!("{prefix}{}", channel.name), values));
+        }
+    }
+    Ok((size.0, size.1, out))
+}
+
 /// Reads an RGB EXR back (for tests and tools): width, height, pixels.
 pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
     use exr::prelude::read_first_rgba_layer_from_file;
@@ -136,26 +224,42 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
 
 /// Writes an 8-bit sRGB PNG after scaling by 2^exposure and clamping.
 pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
+    write_png_tonemapped(path, image, exposure, Tonemap::Clip)
+}
+
+/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and the tone curve `tonemap`.
+pub fn write_png_tonemapped(
+    path: &Path,
+    image: &Image,
+    exposure: f32,
+    tonemap: Tonemap,
+) -> Result<()> {
     let scale = exposure.exp2();
     let mut bytes = Vec::with_capacity(image.width * image.height * 3);
     for c in &image.pixels {
         for v in [c.r, c.g, c.b] {
-            bytes.push((linear_to_srgb(v * scale) * 255.0 + 0.5) as u8);
+            bytes.push(tonemap.srgb8(v, scale));
         }
     }
-    write_atomically(path, |tmp| {
-        let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
-        let mut encoder = png::Encoder::new(
-            std::io::BufWriter::new(file),
-            image.width as u32,
-            image.height as u32,
-        );
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-        writer.write_image_data(&bytes).map_err(|e| e.to_string())?;
-        writer.finish().map_err(|e| e.to_string())
-    })
+    write_png_srgb8(path, image.width as u32, image.height as u32, &bytes)
+}
+
+/// Writes ready-made 8-bit sRGB pixels (row-major RGB, e.g. a plot) as a PNG.
+pub fn write_png_srgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+    if rgb.len() != width as usize * height as usize * 3 {
+        return Err(output_error(path, "pixel buffer does not match the size"));
+    }
+    write_atomically(path, |tmp| encode_png(tmp, width, height, rgb))
+}
+
+fn encode_png(tmp: &Path, width: u32, height: u32, rgb: &[u8]) -> std::result::Result<(), String> {
+    let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    writer.write_image_data(rgb).map_err(|e| e.to_string())?;
+    writer.finish().map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

@@ -8,7 +8,11 @@
 
 pub mod airlight;
 pub mod camera;
+pub mod checkpoint;
 pub mod color;
+pub mod compare;
+pub mod denoise;
+pub mod display;
 pub mod error;
 pub mod film;
 pub mod geometry;
@@ -24,4 +28,5 @@ pub mod sampling;
 pub mod scene;
 pub mod scene_hash;
 pub mod split;
+pub mod tonemap;
 pub mod volume;

@@ -28,6 +28,8 @@ enum Command {
     Airlight(AirlightArgs),
     /// Merge the pieces of a split render (crops, sample ranges) into the image of the whole render.
     Merge(MergeArgs),
+    /// Compare A.exr with the reference B.exr: RMSE, relative MSE, means, max difference.
+    Compare(CompareArgs),
 }
 
 #[derive(clap::Args)]
@@ -41,6 +43,20 @@ struct MergeArgs {
     /// A PNG preview of the merged image.
     #[arg(long)]
     png: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct CompareArgs {
+    /// The image to judge (EXR).
+    a: PathBuf,
+    /// The reference image (EXR).
+    b: PathBuf,
+    /// Write a false-colour picture of the per-pixel error here (PNG).
+    #[arg(long)]
+    diff: Option<PathBuf>,
+    /// Exit with code 1 when the RMSE is above this (or an image holds NaN or infinity).
+    #[arg(long)]
+    max_rmse: Option<f64>,
 }
 
 #[derive(clap::Args)]
@@ -102,12 +118,29 @@ struct RenderArgs {
     /// Render progressive passes until this many seconds are spent (--spp then caps it).
     #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
+    /// Tone curve of the PNG preview: aces (filmic, rolls highlights off) or clip.
+    #[arg(long, default_value = "aces", value_name = "aces|clip")]
+    tonemap: String,
     /// Exposure of the PNG preview in stops.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     exposure: f32,
     /// No progress bar and no summary.
     #[arg(long, short)]
     quiet: bool,
+    /// AOVs written as extra EXR layers, comma-separated: alpha,depth,normal,albedo,transmittance
+    /// (replaces the scene's [film] aovs; "none" for none).
+    #[arg(long, value_name = "LIST")]
+    aovs: Option<String>,
+    /// Denoise the beauty with Intel Open Image Denoise into a `denoised` layer
+    /// (adds the albedo and normal AOVs; needs a build with `--features denoise`).
+    #[arg(long)]
+    denoise: bool,
+    /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
+    #[arg(long, value_name = "HOST:PORT")]
+    display: Option<String>,
+    /// Rewrite the EXR and PNG (marked incomplete) every SECONDS during the render.
+    #[arg(long, value_name = "SECONDS")]
+    checkpoint: Option<f64>,
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
     #[arg(long, value_name = "X,Y")]
     debug_pixel: Option<String>,
@@ -122,6 +155,7 @@ fn main() {
         Command::Info(args) => run_info(args),
         Command::Airlight(args) => run_airlight(args),
         Command::Merge(args) => run_merge(args),
+        Command::Compare(args) => run_compare(args),
     };
     match result {
         Ok(code) => std::process::exit(code),
@@ -189,6 +223,40 @@ fn run_airlight(args: AirlightArgs) -> Result<i32> {
     Ok(0)
 }
 
+fn run_compare(args: CompareArgs) -> Result<i32> {
+    if let Some(m) = args.max_rmse {
+        if !(m.is_finite() && m >= 0.0) {
+            return Err(argument("--max-rmse", "must be a number at or above 0"));
+        }
+    }
+    if let Some(diff) = &args.diff {
+        image_io::check_writable(diff)?;
+    }
+    let (c, a, b) = brume::compare::compare_files(&args.a, &args.b)?;
+    print!("{}", c.report());
+    if let Some(diff) = &args.diff {
+        let scale = brume::compare::diff_scale(&a, &b);
+        let rgb = brume::compare::false_colour(&a, &b, scale);
+        let (w, h) = c.size;
+        image_io::write_png_srgb8(diff, w as u32, h as u32, &rgb)?;
+        println!(
+            "wrote {} (saturates at a mean |A-B| of {scale:.4e})",
+            diff.display()
+        );
+    }
+    match args.max_rmse {
+        Some(_) if c.nonfinite > 0 => {
+            println!("FAIL: {} non-finite channel values", c.nonfinite);
+            Ok(1)
+        }
+        Some(m) if c.rmse > m => {
+            println!("FAIL: rmse {:.6e} above --max-rmse {m:e}", c.rmse);
+            Ok(1)
+        }
+        _ => Ok(0),
+    }
+}
+
 fn argument(name: &str, message: &str) -> Error {
     Error::Argument {
         argument: name.into(),
@@ -230,6 +298,25 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if !args.exposure.is_finite() {
         return Err(argument("--exposure", "must be finite"));
     }
+    if let Some(list) = &args.aovs {
+        scene.aovs = parse_aovs(list)?;
+    }
+    if args.denoise {
+        if !brume::denoise::AVAILABLE {
+            return Err(argument(
+                "--denoise",
+                "this brume was built without the `denoise` feature (see docs/outputs.md)",
+            ));
+        }
+        use brume::integrator::aov::Aov;
+        for aov in [Aov::Albedo, Aov::Normal] {
+            if !scene.aovs.contains(&aov) {
+                scene.aovs.push(aov);
+            }
+        }
+    }
+    let tonemap = brume::tonemap::Tonemap::from_name(&args.tonemap)
+        .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?;
     if let Some(pixel) = &args.debug_pixel {
         return debug_pixel(&scene, pixel);
     }
@@ -241,6 +328,12 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     }
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let part = brume::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
+    if args.split.is_piece() && !scene.aovs.is_empty() {
+        return Err(argument(
+            "--aovs",
+            "AOV layers are not supported on split renders (--crop, --samples, --task-count) yet",
+        ));
+    }
     let scene_hash = brume::scene_hash::scene_hash(&args.scene, &scene.settings)?;
     let stem = args
         .scene
@@ -275,10 +368,39 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         threads: args.threads,
         progress: show,
     };
-    let mut out = render_part(&scene, &options, &part, &cancel);
+    let checkpoint = match args.checkpoint {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            return Err(argument(
+                "--checkpoint",
+                "must be a positive number of seconds",
+            ))
+        }
+        Some(t) => Some(brume::checkpoint::Checkpoint::new(
+            Duration::from_secs_f64(t),
+            exr_path.clone(),
+            png_path.clone(),
+            args.exposure,
+            tonemap,
+        )),
+        None => None,
+    };
+    let display = match &args.display {
+        Some(address) => Some(brume::display::Display::connect(address, &stem)?),
+        None => None,
+    };
+    let mut out = render_live(&scene, &options, &part, &cancel, display, checkpoint);
     out.film.provenance.scene_hash = scene_hash;
-    image_io::write_film_exr(&exr_path, &out.film)?;
-    image_io::write_png(&png_path, &out.image, args.exposure)?;
+    if scene.aovs.is_empty() {
+        image_io::write_film_exr(&exr_path, &out.film)?;
+    } else {
+        let mut layers =
+            brume::render::render_aovs(&scene, &scene.aovs, out.image.spp, args.threads);
+        if args.denoise {
+            denoise_layer(&out.image, &mut layers, &exr_path)?;
+        }
+        image_io::write_film_exr_with(&exr_path, &out.film, &layers)?;
+    }
+    image_io::write_png_tonemapped(&png_path, &out.image, args.exposure, tonemap)?;
     if !args.quiet {
         report(&out, &exr_path, &png_path);
     }
@@ -314,6 +436,91 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
         args.out.display()
     );
     Ok(0)
+}
+
+/// Appends the `denoised.R/G/B` channels, denoised from the beauty, albedo and normal.
+fn denoise_layer(
+    image: &image_io::Image,
+    layers: &mut Vec<image_io::NamedChannel>,
+    exr: &Path,
+) -> Result<()> {
+    let get = |name: &str| -> &[f32] {
+        layers
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+            .unwrap_or(&[])
+    };
+    let denoised = brume::denoise::denoise(
+        image.width,
+        image.height,
+        &image.pixels,
+        [get("albedo.R"), get("albedo.G"), get("albedo.B")],
+        [get("normal.X"), get("normal.Y"), get("normal.Z")],
+    )
+    .map_err(|message| Error::Output {
+        path: exr.to_path_buf(),
+        message,
+    })?;
+    for (name, values) in brume::denoise::CHANNELS.iter().zip(denoised) {
+        layers.push((name.to_string(), values));
+    }
+    Ok(())
+}
+
+/// `--aovs a,b,c`: known names, each once; `none` for none.
+fn parse_aovs(list: &str) -> Result<Vec<brume::integrator::aov::Aov>> {
+    use brume::integrator::aov::Aov;
+    let mut aovs = Vec::new();
+    if list.trim() == "none" {
+        return Ok(aovs);
+    }
+    for name in list.split(',').map(str::trim) {
+        let aov = Aov::from_name(name).ok_or_else(|| {
+            let known: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
+            argument(
+                "--aovs",
+                &format!(
+                    "unknown AOV `{name}`, expected none or a list of {}",
+                    known.join(", ")
+                ),
+            )
+        })?;
+        if !aovs.contains(&aov) {
+            aovs.push(aov);
+        }
+    }
+    Ok(aovs)
+}
+
+/// Renders, sending each finished pass to tev and to the checkpoint writer.
+/// A viewer that goes away or a failed checkpoint is reported once; the render goes on.
+fn render_live(
+    scene: &brume::integrator::Scene,
+    options: &RenderOptions,
+    part: &brume::render::Part,
+    cancel: &AtomicBool,
+    mut display: Option<brume::display::Display>,
+    mut checkpoint: Option<brume::checkpoint::Checkpoint>,
+) -> brume::render::RenderOutput {
+    if display.is_none() && checkpoint.is_none() {
+        return render_part(scene, options, part, cancel, None);
+    }
+    let mut on_pass = |image: &image_io::Image| {
+        if let Some(d) = &mut display {
+            if let Err(e) = d.show(image) {
+                eprintln!("warning: --display: lost the connection to tev ({e}); rendering on");
+                display = None;
+            }
+        }
+        if let Some(c) = &mut checkpoint {
+            if let Err(e) = c.pass_done(image) {
+                eprintln!("warning: --checkpoint: {e}; no more checkpoints");
+                checkpoint = None;
+            }
+        }
+    };
+    render_part(scene, options, part, cancel, Some(&mut on_pass))
 }
 
 /// `--debug-pixel X,Y`: the samples of one pixel, exactly as a full render takes them.

@@ -9,6 +9,7 @@ use crate::color::Rgb;
 use crate::film::{Film, Provenance, Rect, SampleRange};
 use crate::image_io::Image;
 use crate::integrator::tracking::{take_thread_stats, TrackingStats};
+use crate::integrator::aov::{aov_sample, Aov, AovPixel};
 use crate::integrator::{li, Scene};
 use crate::sampling::Sampler;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -128,16 +129,32 @@ impl Part {
 
 /// Renders `scene`; stops early (keeping finished passes) once `cancel` is set.
 pub fn render(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
-    render_part(scene, options, &Part::whole(scene, options.spp), cancel)
+    render_part(scene, options, &Part::whole(scene, options.spp), cancel, None)
+}
+
+/// Called after every finished pass with the image so far (marked partial).
+pub type PassObserver<'a> = &'a mut (dyn FnMut(&Image) + Send);
+
+/// [`render`], showing the image so far to `on_pass` after every finished pass
+/// (live preview, checkpoints); the result does not depend on the observer.
+pub fn render_observed(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    on_pass: Option<PassObserver>,
+) -> RenderOutput {
+    render_part(scene, options, &Part::whole(scene, options.spp), cancel, on_pass)
 }
 
 /// Renders sample indices `part.samples` of the pixels in `part.crop` only
-/// (`options.spp` is then the spp of the whole render the part belongs to).
+/// (`options.spp` is then the spp of the whole render the part belongs to),
+/// showing the image so far to `on_pass` after every finished pass.
 pub fn render_part(
     scene: &Scene,
     options: &RenderOptions,
     part: &Part,
     cancel: &AtomicBool,
+    on_pass: Option<PassObserver>,
 ) -> RenderOutput {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads.unwrap_or(0))
@@ -149,7 +166,7 @@ pub fn render_part(
         ..options.clone()
     };
     let timed = options.time_budget.is_some();
-    let mut out = pool.install(|| render_in_pool(scene, &options, part, cancel));
+    let mut out = pool.install(|| render_in_pool(scene, &options, part, cancel, on_pass));
     // A timed render's size is what it reached; a piece belongs to a render of `spp_total`.
     if !timed {
         let provenance = &mut out.film.provenance;
@@ -163,6 +180,7 @@ fn render_in_pool(
     options: &RenderOptions,
     part: &Part,
     cancel: &AtomicBool,
+    mut on_pass: Option<PassObserver>,
 ) -> RenderOutput {
     let (w, h) = (part.crop.width() as usize, part.crop.height() as usize);
     let (x0, y0, first) = (part.crop.x0, part.crop.y0, part.samples.start);
@@ -226,6 +244,15 @@ fn render_in_pool(
         }
         spp_done += count;
         bar.set_message(format!("{spp_done} spp"));
+        if let Some(observe) = on_pass.as_mut() {
+            observe(&Image {
+                width: w,
+                height: h,
+                pixels: film.iter().map(Pixel::mean).collect(),
+                spp: spp_done,
+                partial: true,
+            });
+        }
     }
     bar.finish_and_clear();
     let nonfinite: u64 = film.iter().map(|p| p.nonfinite as u64).sum();
@@ -315,6 +342,50 @@ pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
     let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
     let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
     li(scene, ray, &mut sampler)
+}
+
+/// Per-pixel means of `aovs` over samples `0..spp` (the beauty's camera rays,
+/// the AOV streams): one named channel per entry of each `Aov::channels`.
+pub fn render_aovs(
+    scene: &Scene,
+    aovs: &[Aov],
+    spp: u32,
+    threads: Option<usize>,
+) -> Vec<(String, Vec<f32>)> {
+    let (w, h) = (
+        scene.camera.width() as usize,
+        scene.camera.height() as usize,
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .expect("thread pool");
+    let mut film = vec![AovPixel::default(); w * h];
+    pool.install(|| {
+        film.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+            for (x, px) in row.iter_mut().enumerate() {
+                for s in 0..spp {
+                    px.add(&aov_sample(scene, x as u32, y as u32, s));
+                }
+            }
+        })
+    });
+    let mut out = Vec::new();
+    let mut values = Vec::with_capacity(3);
+    for &aov in aovs {
+        let mut channels: Vec<Vec<f32>> = vec![Vec::with_capacity(w * h); aov.channels().len()];
+        for px in &film {
+            values.clear();
+            px.value(aov, &mut values);
+            for (c, v) in channels.iter_mut().zip(&values) {
+                c.push(*v);
+            }
+        }
+        for (name, data) in aov.channels().iter().zip(channels) {
+            out.push((name.to_string(), data));
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -119,7 +119,9 @@ fn airlight_subcommand_runs() {
         .unwrap();
     assert!(output.status.success(), "{output:?}");
     assert!(String::from_utf8_lossy(&output.stdout).contains("sigma_t fitted"));
-    assert!(out.join("airlight_plot.png").is_file());
+    let plot = std::fs::File::open(out.join("airlight_plot.png")).unwrap();
+    let reader = png::Decoder::new(plot).read_info().unwrap();
+    assert_eq!((reader.info().width, reader.info().height), (900, 720));
     assert_cmd::Command::cargo_bin("brume")
         .unwrap()
         .args(["airlight", "--visibility", "-5", "--out"])

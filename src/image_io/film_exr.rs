@@ -30,10 +30,28 @@ const NONFINITE: &str = "brume.nonfinite";
 
 /// Writes `film` atomically, with its provenance in the header.
 pub fn write_film_exr(path: &Path, film: &Film) -> Result<()> {
+    write_film_exr_with(path, film, &[])
+}
+
+/// [`write_film_exr`] plus `extra` f32 channels (AOVs: means only, one value
+/// per pixel of the data window), which `merge` does not read.
+pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChannel]) -> Result<()> {
     let w = &film.window;
+    if let Some((name, _)) = extra.iter().find(|(_, v)| v.len() != w.area()) {
+        return Err(super::output_error(
+            path,
+            format!("channel {name} does not match the image size"),
+        ));
+    }
     let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
     for layer in &film.layers {
         push_layer_channels(&mut channels, film, layer);
+    }
+    for (name, values) in extra {
+        channels.push(AnyChannel::new(
+            name.as_str(),
+            FlatSamples::F32(values.clone()),
+        ));
     }
     channels.push(AnyChannel::new(
         COUNT,

@@ -6,6 +6,7 @@
 //! Both kinds of vertex do next-event estimation with transmittance-weighted
 //! shadow rays, combined by MIS with phase/BSDF sampling.
 
+pub mod aov;
 mod direct;
 mod equiangular;
 pub mod tracking;
@@ -57,6 +58,8 @@ pub struct Scene {
     pub media: Vec<Medium>,
     /// Sampling settings.
     pub settings: Settings,
+    /// AOVs to write beside the beauty (`[film] aovs`).
+    pub aovs: Vec<aov::Aov>,
 }
 
 impl Scene {

@@ -65,6 +65,23 @@ pub struct SceneDesc {
     /// `[[medium]]` entries (also accepted as `[[media]]`).
     #[serde(default, rename = "medium", alias = "media")]
     pub media: Vec<MediumDesc>,
+    /// `[film]`.
+    #[serde(default)]
+    pub film: FilmDesc,
+}
+
+/// `[film]`: what the EXR holds beside the beauty.
+///
+/// ```toml
+/// [film]
+/// aovs = ["alpha", "depth", "normal", "albedo", "transmittance"]
+/// ```
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilmDesc {
+    /// AOV names, written as extra EXR layers.
+    #[serde(default)]
+    pub aovs: Vec<String>,
 }
 
 /// `[camera]`: a pinhole camera.

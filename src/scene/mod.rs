@@ -216,7 +216,29 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         lights,
         media,
         settings,
+        aovs: build_aovs(&desc.film.aovs, &check)?,
     })
+}
+
+/// `[film] aovs`: known names, each once.
+fn build_aovs(names: &[String], check: &Check) -> Result<Vec<crate::integrator::aov::Aov>> {
+    use crate::integrator::aov::Aov;
+    let mut aovs = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        let field = format!("film.aovs[{i}]");
+        let Some(aov) = Aov::from_name(name) else {
+            let known: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
+            return Err(check.error(
+                &field,
+                format!("unknown AOV `{name}`, expected one of {}", known.join(", ")),
+            ));
+        };
+        if aovs.contains(&aov) {
+            return Err(check.error(&field, format!("`{name}` is listed twice")));
+        }
+        aovs.push(aov);
+    }
+    Ok(aovs)
 }
 
 fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
