@@ -84,6 +84,15 @@ pub struct CameraDesc {
     /// Image size `[width, height]` in pixels.
     #[serde(default = "default_resolution")]
     pub resolution: [u32; 2],
+    /// Image axis `fov` spans: "y"/"vertical" (default) or "x"/"horizontal".
+    #[serde(default)]
+    pub fov_axis: Option<String>,
+    /// Thin-lens radius (0 = pinhole).
+    #[serde(default)]
+    pub aperture_radius: Option<f32>,
+    /// Distance to the plane in focus (default: to `look_at`).
+    #[serde(default)]
+    pub focus_distance: Option<f32>,
 }
 
 fn default_up() -> [f32; 3] {

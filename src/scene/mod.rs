@@ -8,7 +8,7 @@ mod shapes;
 mod validate;
 pub mod vdb;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, FovAxis};
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
@@ -234,8 +234,33 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     if (look_at - position).length() == 0.0 {
         return Err(check.error("camera.look_at", "equals camera.position"));
     }
-    Camera::new(position, look_at, up, c.fov, w, h)
-        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))
+    let camera = Camera::new(position, look_at, up, c.fov, w, h)
+        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))?;
+    let axis = match c.fov_axis.as_deref() {
+        None | Some("y" | "vertical") => FovAxis::Vertical,
+        Some("x" | "horizontal") => FovAxis::Horizontal,
+        Some(other) => {
+            return Err(check.error(
+                "camera.fov_axis",
+                format!("unknown axis `{other}`, expected \"y\" (vertical) or \"x\" (horizontal)"),
+            ))
+        }
+    };
+    let aperture = match c.aperture_radius {
+        Some(a) if check.finite("camera.aperture_radius", a)? < 0.0 => {
+            return Err(check.error(
+                "camera.aperture_radius",
+                format!("must be 0 or more, got {a}"),
+            ))
+        }
+        Some(a) => a,
+        None => 0.0,
+    };
+    let focus = match c.focus_distance {
+        Some(f) => check.positive("camera.focus_distance", f)?,
+        None => (look_at - position).length(),
+    };
+    Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
 }
 
 fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Result<Material> {
