@@ -14,7 +14,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::Geometry;
 use crate::light::Light;
-use crate::material::Material;
+use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
 use crate::sampling::{power_heuristic, Sampler};
@@ -209,16 +209,12 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
             break;
         }
         let material = &scene.shape_materials[hit.shape as usize];
-        let normal = if hit.shading_normal.dot(wo) >= 0.0 {
-            hit.shading_normal
-        } else {
-            -hit.shading_normal
-        };
+        let shading = Shading::facing(hit.shading_normal, wo);
         let last_vertex = depth + 1 >= settings.max_depth;
         if !material.is_delta() {
             let vertex = Vertex::Surface {
                 hit: &hit,
-                normal,
+                shading,
                 wo,
                 material,
             };
@@ -227,7 +223,8 @@ pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
         if last_vertex {
             break;
         }
-        let Some(bs) = material.sample(normal, wo, sampler.next_2d()) else {
+        let u = sampler.next_2d();
+        let Some(bs) = material.sample(&shading, wo, u, sampler.next_1d()) else {
             break;
         };
         path.throughput *= bs.weight;

@@ -270,6 +270,34 @@ pub enum MaterialDesc {
         #[serde(default = "default_reflectance")]
         reflectance: Color,
     },
+    /// Glass-like interface: smooth (alpha = 0) or GGX-rough.
+    Dielectric {
+        /// Index of refraction inside the shape.
+        #[serde(default = "default_ior")]
+        ior: f32,
+        /// GGX α (0 = smooth).
+        #[serde(default)]
+        alpha: f32,
+    },
+    /// Metal: smooth (alpha = 0) or GGX-rough, with a complex index or a Schlick F0.
+    Conductor {
+        /// GGX α (0 = smooth).
+        #[serde(default)]
+        alpha: f32,
+        /// Real part of the complex index of refraction, per channel.
+        #[serde(default)]
+        eta: Option<Color>,
+        /// Extinction coefficient, per channel.
+        #[serde(default)]
+        k: Option<Color>,
+        /// Reflectance at normal incidence (Schlick), instead of eta and k.
+        #[serde(default)]
+        f0: Option<Color>,
+    },
+}
+
+fn default_ior() -> f32 {
+    1.5
 }
 
 fn default_reflectance() -> Color {
@@ -316,6 +344,9 @@ pub struct ShapeDesc {
     /// Placement applied to the shape.
     #[serde(default)]
     pub transform: Option<TransformDesc>,
+    /// A medium filling the shape: read so that it can be refused clearly (not supported yet).
+    #[serde(default)]
+    pub interior: Option<serde::de::IgnoredAny>,
 }
 
 /// The kinds of shape.

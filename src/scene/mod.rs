@@ -3,6 +3,7 @@
 
 pub mod description;
 mod fog;
+mod materials;
 mod media;
 mod shapes;
 mod validate;
@@ -279,6 +280,12 @@ fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Re
         Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
             reflectance: check.albedo(&format!("{field}.reflectance"), *reflectance)?,
         },
+        Some(MaterialDesc::Dielectric { ior, alpha }) => {
+            materials::dielectric(check, &field, *ior, *alpha)?
+        }
+        Some(MaterialDesc::Conductor { alpha, eta, k, f0 }) => {
+            materials::conductor(check, &field, *alpha, *eta, *k, *f0)?
+        }
     })
 }
 
