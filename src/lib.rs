@@ -9,6 +9,7 @@
 pub mod airlight;
 pub mod camera;
 pub mod color;
+pub mod envmap;
 pub mod error;
 pub mod geometry;
 pub mod image_io;

@@ -205,6 +205,17 @@ pub enum LightDesc {
         /// Radiance from every direction.
         radiance: Color,
     },
+    /// Lat-long HDR environment map (EXR).
+    EnvironmentMap {
+        /// EXR file, relative to the scene file.
+        file: PathBuf,
+        /// Radiance multiplier (number or RGB).
+        #[serde(default = "default_map_scale")]
+        scale: Color,
+        /// Rotation of the map in degrees about X, then Y, then Z.
+        #[serde(default)]
+        rotate: Option<[f32; 3]>,
+    },
     /// Sky gradient environment.
     Sky {
         /// Radiance at the zenith.
@@ -220,6 +231,9 @@ pub enum LightDesc {
     },
 }
 
+fn default_map_scale() -> Color {
+    Color([1.0; 3])
+}
 fn default_cone_angle() -> f32 {
     30.0
 }

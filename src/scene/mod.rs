@@ -2,6 +2,7 @@
 //! that name the file and field, and building the runtime `Scene`.
 
 pub mod description;
+mod envmap;
 mod fog;
 mod materials;
 mod media;
@@ -180,13 +181,13 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
     }
     let mut environments = 0;
     for (i, light) in desc.lights.iter().enumerate() {
-        let built = build_light(light, &format!("light[{i}]"), &check)?;
+        let built = build_light(light, &format!("light[{i}]"), &check, base)?;
         if matches!(built, Light::Environment(_)) {
             environments += 1;
             if environments > 1 {
                 return Err(check.error(
                     &format!("light[{i}]"),
-                    "only one environment or sky light is allowed",
+                    "only one environment, sky or environment_map light is allowed",
                 ));
             }
         }
@@ -289,7 +290,7 @@ fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Re
     })
 }
 
-fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
+fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {
     let f = |name: &str| format!("{field}.{name}");
     Ok(match desc {
         LightDesc::Point {
@@ -336,6 +337,17 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
         LightDesc::Environment { radiance } => Light::Environment(Environment::Constant {
             radiance: check.color(&f("radiance"), *radiance)?,
         }),
+        LightDesc::EnvironmentMap {
+            file,
+            scale,
+            rotate,
+        } => Light::Environment(Environment::Map(std::sync::Arc::new(envmap::build(
+            check,
+            field,
+            &resolve(base, file),
+            *scale,
+            *rotate,
+        )?))),
         LightDesc::Sky {
             zenith,
             horizon,
