@@ -176,8 +176,8 @@ fn plane_irradiance(texels: &[Rgb], width: usize, height: usize, flip: bool) -> 
         let row = if flip { height - 1 - y } else { y };
         for x in 0..width {
             let l = texels[row * width + x];
-            for c in 0..3 {
-                e[c] += l[c] as f64 * band;
+            for (c, ec) in e.iter_mut().enumerate() {
+                *ec += l[c] as f64 * band;
             }
         }
     }

@@ -26,7 +26,7 @@ impl Distribution1D {
             acc += f.max(0.0) as f64 / n as f64;
             sums.push(acc);
         }
-        if !(acc > 0.0) || !acc.is_finite() {
+        if acc <= 0.0 || !acc.is_finite() {
             return None;
         }
         cdf.extend(sums.iter().map(|&s| (s / acc) as f32));
