@@ -201,7 +201,9 @@ fn a_diffuse_plane_under_a_map_receives_the_closed_form_irradiance() {
             position = [0.0, 1.0, 4.0]
             look_at = [0.0, 0.0, 0.0]
             [integrator]
-            max_depth = 1
+            # 2, so that the first vertex's light sample is MIS-weighted and the
+            # BSDF-sampled ray that escapes to the map carries the other weight.
+            max_depth = 2
             [[light]]
             type = "environment_map"
             file = "{file}"
