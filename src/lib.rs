@@ -13,6 +13,7 @@ pub mod color;
 pub mod compare;
 pub mod denoise;
 pub mod display;
+pub mod envmap;
 pub mod error;
 pub mod film;
 pub mod geometry;

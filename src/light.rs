@@ -1,16 +1,18 @@
 //! Lights: point, spot, area (emissive shapes), sun and environment.
 
 use crate::color::Rgb;
+use crate::envmap::EnvMap;
 use crate::geometry::{Geometry, Primitive};
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 mod sphere;
 use sphere::Cone;
 
 /// Radiance arriving from the sky in a direction, for environments.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Environment {
     /// The same radiance from every direction.
     Constant {
@@ -28,6 +30,8 @@ pub enum Environment {
         /// Unit up axis.
         up: Vec3,
     },
+    /// A lat-long HDR image, importance-sampled.
+    Map(Arc<EnvMap>),
 }
 
 impl Environment {
@@ -35,6 +39,7 @@ impl Environment {
     pub fn radiance(&self, dir: Vec3) -> Rgb {
         match *self {
             Environment::Constant { radiance } => radiance,
+            Environment::Map(ref map) => map.radiance(dir),
             Environment::Sky {
                 zenith,
                 horizon,
@@ -225,6 +230,13 @@ impl Light {
                     is_delta: false,
                 })
             }
+            Light::Environment(Environment::Map(map)) => map.sample(u).map(|s| LightSample {
+                wi: s.wi,
+                distance: f32::INFINITY,
+                radiance: s.radiance,
+                pdf: s.pdf,
+                is_delta: false,
+            }),
             Light::Environment(env) => {
                 let wi = warp::square_to_uniform_sphere(u);
                 Some(LightSample {
@@ -312,6 +324,7 @@ impl Light {
             Light::Sun {
                 to_sun, cos_max, ..
             } if *cos_max < 1.0 && dir.dot(*to_sun) >= *cos_max => warp::uniform_cone_pdf(*cos_max),
+            Light::Environment(Environment::Map(map)) => map.pdf(dir),
             Light::Environment(_) => warp::uniform_sphere_pdf(),
             _ => 0.0,
         }

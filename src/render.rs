@@ -340,7 +340,7 @@ fn render_pixel(scene: &Scene, x: u32, y: u32, first: u32, count: u32) -> Pixel 
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
 pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
     let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
-    let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+    let ray = scene.camera.sample_ray(x, y, &mut sampler);
     li(scene, ray, &mut sampler)
 }
 

@@ -228,7 +228,7 @@ fn smoke_scene_renders() {
     assert!(matches!(scene.media[0], Medium::Grid(_)));
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let mut sampler = brume::sampling::Sampler::new(0, w / 2, h / 2, 0);
-    let ray = scene.camera.generate_ray(w / 2, h / 2, sampler.next_2d());
+    let ray = scene.camera.sample_ray(w / 2, h / 2, &mut sampler);
     let est = estimate_ray(&scene, ray, 64, 5);
     assert!(
         est.mean.iter().all(|v| v.is_finite() && *v > 0.0),

@@ -114,6 +114,9 @@ fn reflectance(material: &Material) -> Rgb {
     match *material {
         Material::Diffuse { albedo } | Material::Phong { albedo, .. } => albedo,
         Material::Mirror { reflectance } => reflectance,
+        // Clear glass transmits or reflects everything: white, as denoisers expect.
+        Material::Dielectric { .. } => Rgb::WHITE,
+        Material::Conductor { fresnel, .. } => fresnel.eval(1.0),
     }
 }
 

@@ -5,7 +5,7 @@ use super::Scene;
 use crate::color::Rgb;
 use crate::geometry::SurfaceHit;
 use crate::light::LightSample;
-use crate::material::Material;
+use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::PhaseFunction;
 use crate::sampling::{power_heuristic, Sampler};
@@ -15,8 +15,8 @@ pub(super) enum Vertex<'a> {
     /// A surface point with its BSDF.
     Surface {
         hit: &'a SurfaceHit,
-        /// Shading normal on the side of `wo`.
-        normal: Vec3,
+        /// Shading frame on the side of `wo`.
+        shading: Shading,
         wo: Vec3,
         material: &'a Material,
     },
@@ -52,13 +52,13 @@ impl Vertex<'_> {
     fn scattering(&self, wi: Vec3) -> (Rgb, f32) {
         match self {
             Vertex::Surface {
-                normal,
+                shading,
                 wo,
                 material,
                 ..
             } => (
-                material.eval(*normal, *wo, wi),
-                material.pdf(*normal, *wo, wi),
+                material.eval(shading, *wo, wi),
+                material.pdf(shading, *wo, wi),
             ),
             Vertex::Medium { dir_in, phase, .. } => {
                 let p = phase.eval(*dir_in, wi);

@@ -15,7 +15,7 @@ use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Geometry, SurfaceHit};
 use crate::light::Light;
-use crate::material::Material;
+use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
 use crate::sampling::{power_heuristic, Sampler};
@@ -266,21 +266,18 @@ fn surface_vertex(
 ) -> Step {
     let wo = -path.ray.direction;
     let material = &scene.shape_materials[hit.shape as usize];
-    let normal = if hit.shading_normal.dot(wo) >= 0.0 {
-        hit.shading_normal
-    } else {
-        -hit.shading_normal
-    };
+    let shading = Shading::facing(hit.shading_normal, wo);
     if !material.is_delta() {
         let vertex = Vertex::Surface {
             hit,
-            normal,
+            shading,
             wo,
             material,
         };
         path.radiance += path.throughput * direct_light(scene, &vertex, sampler);
     }
-    let Some(bs) = material.sample(normal, wo, sampler.next_2d()) else {
+    let u = sampler.next_2d();
+    let Some(bs) = material.sample(&shading, wo, u, sampler.next_1d()) else {
         return Step::Stop;
     };
     path.throughput *= bs.weight;

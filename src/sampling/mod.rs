@@ -6,6 +6,7 @@
 //! therefore identical whatever the thread count or tile order.
 
 pub mod chi2;
+pub mod distribution;
 pub mod equiangular;
 pub mod quadrature;
 pub mod warp;

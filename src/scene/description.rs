@@ -101,6 +101,15 @@ pub struct CameraDesc {
     /// Image size `[width, height]` in pixels.
     #[serde(default = "default_resolution")]
     pub resolution: [u32; 2],
+    /// Image axis `fov` spans: "y"/"vertical" (default) or "x"/"horizontal".
+    #[serde(default)]
+    pub fov_axis: Option<String>,
+    /// Thin-lens radius (0 = pinhole).
+    #[serde(default)]
+    pub aperture_radius: Option<f32>,
+    /// Distance to the plane in focus (default: to `look_at`).
+    #[serde(default)]
+    pub focus_distance: Option<f32>,
 }
 
 fn default_up() -> [f32; 3] {
@@ -213,6 +222,17 @@ pub enum LightDesc {
         /// Radiance from every direction.
         radiance: Color,
     },
+    /// Lat-long HDR environment map (EXR).
+    EnvironmentMap {
+        /// EXR file, relative to the scene file.
+        file: PathBuf,
+        /// Radiance multiplier (number or RGB).
+        #[serde(default = "default_map_scale")]
+        scale: Color,
+        /// Rotation of the map in degrees about X, then Y, then Z.
+        #[serde(default)]
+        rotate: Option<[f32; 3]>,
+    },
     /// Sky gradient environment.
     Sky {
         /// Radiance at the zenith.
@@ -228,6 +248,9 @@ pub enum LightDesc {
     },
 }
 
+fn default_map_scale() -> Color {
+    Color([1.0; 3])
+}
 fn default_cone_angle() -> f32 {
     30.0
 }
@@ -278,6 +301,34 @@ pub enum MaterialDesc {
         #[serde(default = "default_reflectance")]
         reflectance: Color,
     },
+    /// Glass-like interface: smooth (alpha = 0) or GGX-rough.
+    Dielectric {
+        /// Index of refraction inside the shape.
+        #[serde(default = "default_ior")]
+        ior: f32,
+        /// GGX α (0 = smooth).
+        #[serde(default)]
+        alpha: f32,
+    },
+    /// Metal: smooth (alpha = 0) or GGX-rough, with a complex index or a Schlick F0.
+    Conductor {
+        /// GGX α (0 = smooth).
+        #[serde(default)]
+        alpha: f32,
+        /// Real part of the complex index of refraction, per channel.
+        #[serde(default)]
+        eta: Option<Color>,
+        /// Extinction coefficient, per channel.
+        #[serde(default)]
+        k: Option<Color>,
+        /// Reflectance at normal incidence (Schlick), instead of eta and k.
+        #[serde(default)]
+        f0: Option<Color>,
+    },
+}
+
+fn default_ior() -> f32 {
+    1.5
 }
 
 fn default_reflectance() -> Color {
@@ -324,6 +375,9 @@ pub struct ShapeDesc {
     /// Placement applied to the shape.
     #[serde(default)]
     pub transform: Option<TransformDesc>,
+    /// A medium filling the shape: read so that it can be refused clearly (not supported yet).
+    #[serde(default)]
+    pub interior: Option<serde::de::IgnoredAny>,
 }
 
 /// The kinds of shape.

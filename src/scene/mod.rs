@@ -2,13 +2,15 @@
 //! that name the file and field, and building the runtime `Scene`.
 
 pub mod description;
+mod envmap;
 mod fog;
+mod materials;
 mod media;
 mod shapes;
 mod validate;
 pub mod vdb;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, FovAxis};
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
@@ -179,13 +181,13 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
     }
     let mut environments = 0;
     for (i, light) in desc.lights.iter().enumerate() {
-        let built = build_light(light, &format!("light[{i}]"), &check)?;
+        let built = build_light(light, &format!("light[{i}]"), &check, base)?;
         if matches!(built, Light::Environment(_)) {
             environments += 1;
             if environments > 1 {
                 return Err(check.error(
                     &format!("light[{i}]"),
-                    "only one environment or sky light is allowed",
+                    "only one environment, sky or environment_map light is allowed",
                 ));
             }
         }
@@ -256,8 +258,33 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     if (look_at - position).length() == 0.0 {
         return Err(check.error("camera.look_at", "equals camera.position"));
     }
-    Camera::new(position, look_at, up, c.fov, w, h)
-        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))
+    let camera = Camera::new(position, look_at, up, c.fov, w, h)
+        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))?;
+    let axis = match c.fov_axis.as_deref() {
+        None | Some("y" | "vertical") => FovAxis::Vertical,
+        Some("x" | "horizontal") => FovAxis::Horizontal,
+        Some(other) => {
+            return Err(check.error(
+                "camera.fov_axis",
+                format!("unknown axis `{other}`, expected \"y\" (vertical) or \"x\" (horizontal)"),
+            ))
+        }
+    };
+    let aperture = match c.aperture_radius {
+        Some(a) if check.finite("camera.aperture_radius", a)? < 0.0 => {
+            return Err(check.error(
+                "camera.aperture_radius",
+                format!("must be 0 or more, got {a}"),
+            ))
+        }
+        Some(a) => a,
+        None => 0.0,
+    };
+    let focus = match c.focus_distance {
+        Some(f) => check.positive("camera.focus_distance", f)?,
+        None => (look_at - position).length(),
+    };
+    Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
 }
 
 fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Result<Material> {
@@ -276,10 +303,16 @@ fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Re
         Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
             reflectance: check.albedo(&format!("{field}.reflectance"), *reflectance)?,
         },
+        Some(MaterialDesc::Dielectric { ior, alpha }) => {
+            materials::dielectric(check, &field, *ior, *alpha)?
+        }
+        Some(MaterialDesc::Conductor { alpha, eta, k, f0 }) => {
+            materials::conductor(check, &field, *alpha, *eta, *k, *f0)?
+        }
     })
 }
 
-fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
+fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {
     let f = |name: &str| format!("{field}.{name}");
     Ok(match desc {
         LightDesc::Point {
@@ -326,6 +359,17 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
         LightDesc::Environment { radiance } => Light::Environment(Environment::Constant {
             radiance: check.color(&f("radiance"), *radiance)?,
         }),
+        LightDesc::EnvironmentMap {
+            file,
+            scale,
+            rotate,
+        } => Light::Environment(Environment::Map(std::sync::Arc::new(envmap::build(
+            check,
+            field,
+            &resolve(base, file),
+            *scale,
+            *rotate,
+        )?))),
         LightDesc::Sky {
             zenith,
             horizon,

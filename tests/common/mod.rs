@@ -109,7 +109,7 @@ pub fn estimate_pixels(scene: &Scene, spp: usize) -> Vec<Estimate> {
             let mut acc = Accumulator::default();
             for s in 0..spp {
                 let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
-                let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+                let ray = scene.camera.sample_ray(x, y, &mut sampler);
                 acc.add(li(scene, ray, &mut sampler));
             }
             out.push(acc.estimate());
