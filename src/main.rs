@@ -375,4 +375,12 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
             out.nonfinite_samples
         );
     }
+    if out.capped_rays > 0 {
+        eprintln!(
+            "warning: {} rays reached the cap of {} tentative collisions and were ended \
+             (the image is biased dark there; a tighter majorant, majorant = \"grid\", avoids it)",
+            out.capped_rays,
+            brume::integrator::tracking::MAX_TENTATIVE_COLLISIONS
+        );
+    }
 }

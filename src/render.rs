@@ -42,6 +42,8 @@ pub struct RenderOutput {
     pub nonfinite_samples: u64,
     /// Total radiance samples taken.
     pub samples: u64,
+    /// Rays ended by the tracking cap (`tracking::MAX_TENTATIVE_COLLISIONS`).
+    pub capped_rays: u64,
 }
 
 /// Per-pixel running sums.
@@ -101,7 +103,10 @@ pub fn render(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> Re
         .num_threads(options.threads.unwrap_or(0))
         .build()
         .expect("thread pool");
-    pool.install(|| render_in_pool(scene, options, cancel))
+    let capped_before = crate::integrator::tracking::capped_rays();
+    let mut out = pool.install(|| render_in_pool(scene, options, cancel));
+    out.capped_rays = crate::integrator::tracking::capped_rays() - capped_before;
+    out
 }
 
 fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
@@ -174,6 +179,7 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
         elapsed: start.elapsed(),
         nonfinite_samples: nonfinite,
         samples: spp_done as u64 * (w * h) as u64,
+        capped_rays: 0,
     }
 }
 

@@ -5,11 +5,65 @@
 //! Woodcock et al. 1965 (delta tracking); Novák et al. 2014 (ratio and
 //! residual ratio tracking); Kutz et al. 2017 (spectral and decomposition
 //! tracking); Miller et al. 2019 (the null-scattering path integral).
+//!
+//! # Bounded work per ray
+//!
+//! A ray costs one step per tentative collision, σ̄·d of them on average, so
+//! a dense volume (`density_scale = 1e6`) or a loose majorant could make one
+//! ray take millions of steps. Two mechanisms bound it:
+//!
+//! * Russian roulette on the transmittance weight (ratio and residual ratio
+//!   tracking): once every channel of the running product is below
+//!   [`ROULETTE_THRESHOLD`], the estimate survives with probability
+//!   p = max|T| / threshold and is divided by p. Its expectation is unchanged
+//!   (p · T/p = T), so the estimator stays unbiased; a shadow ray through a
+//!   thick medium ends after the few steps that take T below the threshold
+//!   instead of walking on until T underflows.
+//! * A hard cap of [`MAX_TENTATIVE_COLLISIONS`] per medium per ray, for the
+//!   cases roulette cannot shorten (free flight through a loose majorant).
+//!   A ray reaching it is ended, its transmittance or throughput set to zero
+//!   (a bias toward dark, in pathological scenes only), and counted: the
+//!   render reports how many rays hit the cap, as it reports non-finite
+//!   samples. No scene of the test suite comes near it.
 
 use crate::color::Rgb;
 use crate::math::Ray;
 use crate::medium::{MajorantIter, MajorantSegment, Medium, MediumProperties};
 use crate::sampling::Sampler;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Below this max channel a transmittance weight plays Russian roulette.
+pub const ROULETTE_THRESHOLD: f32 = 0.1;
+
+/// Most tentative collisions one tracker takes along one ray (see the module doc).
+pub const MAX_TENTATIVE_COLLISIONS: u32 = 1 << 16;
+
+/// Rays ended by the cap since the process started.
+static CAPPED_RAYS: AtomicU64 = AtomicU64::new(0);
+
+/// Number of rays ended by [`MAX_TENTATIVE_COLLISIONS`] so far in this process.
+pub fn capped_rays() -> u64 {
+    CAPPED_RAYS.load(Ordering::Relaxed)
+}
+
+/// Russian roulette on a tracking weight: false if the weight was killed.
+///
+/// Unbiased: the survivor is divided by its survival probability.
+#[inline]
+fn roulette(w: &mut Rgb, sampler: &mut Sampler) -> bool {
+    let m = w.map(f32::abs).max_channel();
+    if m >= ROULETTE_THRESHOLD {
+        return true;
+    }
+    let p = m / ROULETTE_THRESHOLD;
+    if sampler.next_1d() < p {
+        *w /= p;
+        true
+    } else {
+        *w = Rgb::BLACK;
+        false
+    }
+}
 
 /// Walks the tentative collisions of one medium along a ray: a Poisson
 /// process with rate σ̄(t) given by the medium's majorant segments.
@@ -18,6 +72,7 @@ pub struct Tracker {
     segments: MajorantIter,
     current: Option<MajorantSegment>,
     t: f32,
+    steps: u32,
 }
 
 /// One tentative collision: where, and the majorant there.
@@ -41,11 +96,25 @@ impl Tracker {
             segments,
             current,
             t,
+            steps: 0,
         }
+    }
+
+    /// True once the tracker stopped at [`MAX_TENTATIVE_COLLISIONS`].
+    pub fn capped(&self) -> bool {
+        self.steps > MAX_TENTATIVE_COLLISIONS
     }
 
     /// Advances to the next tentative collision, or `None` past the last segment.
     pub fn next(&mut self, sampler: &mut Sampler) -> Option<Collision> {
+        if self.steps >= MAX_TENTATIVE_COLLISIONS {
+            if self.steps == MAX_TENTATIVE_COLLISIONS {
+                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                self.steps += 1;
+            }
+            return None;
+        }
+        self.steps += 1;
         let mut tau = -(1.0 - sampler.next_1d()).ln();
         loop {
             let seg = self.current?;
@@ -59,7 +128,7 @@ impl Tracker {
                     // first: on an unbounded segment 0 · ∞ is NaN.
                     let dt = tau / sigma;
                     if dt < length {
-                        self.t = t + dt;
+                        self.t = advance(t, t + dt).min(seg.t1);
                         return Some(self.collision(&seg));
                     }
                     tau -= sigma * length;
@@ -68,7 +137,7 @@ impl Tracker {
                     let available = sigma * (-(-k * length).exp_m1()) / k;
                     if tau < available {
                         let dt = -(1.0 - tau * k / sigma).ln() / k;
-                        self.t = (t + dt).min(seg.t1);
+                        self.t = advance(t, t + dt).min(seg.t1);
                         return Some(self.collision(&seg));
                     }
                     tau -= available;
@@ -87,6 +156,22 @@ impl Tracker {
             sigma_maj: seg.majorant_at(self.t),
             sigma_control: seg.sigma_control,
         }
+    }
+}
+
+/// The next collision parameter, at least one f32 step past `t`.
+///
+/// A mean free path shorter than the spacing of f32 values at `t` (a fog
+/// 10¹¹ times denser than at its reference height, far along a ray) would
+/// otherwise give `t + dt == t`: every later collision at the same point,
+/// where a null one repeats forever. One ulp is below what a ray position
+/// can resolve, so it changes no estimate beyond rounding.
+#[inline]
+fn advance(t: f32, next: f32) -> f32 {
+    if next > t {
+        next
+    } else {
+        t.next_up()
     }
 }
 
@@ -126,16 +211,35 @@ pub fn medium_transmittance(
 }
 
 /// Ratio tracking: T = Π (1 - σt(x_i)/σ̄(x_i)) over tentative collisions, per channel.
+///
+/// With Russian roulette once T is small (see the module doc).
 pub fn ratio_tracking(medium: &Medium, ray: &Ray, t_max: f32, sampler: &mut Sampler) -> Rgb {
-    let mut tracker = Tracker::new(medium, ray, t_max);
+    let tracker = Tracker::new(medium, ray, t_max);
+    ratio_track(tracker, medium, ray, true, sampler)
+}
+
+/// The ratio-tracking loop over the collisions of `tracker`, with or without roulette.
+fn ratio_track(
+    mut tracker: Tracker,
+    medium: &Medium,
+    ray: &Ray,
+    with_roulette: bool,
+    sampler: &mut Sampler,
+) -> Rgb {
     let mut tr = Rgb::WHITE;
     while let Some(c) = tracker.next(sampler) {
         let props = medium.properties(ray.at(c.t));
         let sigma_t = props.sigma_a + props.sigma_s;
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
-            break;
+            return tr;
         }
+        if with_roulette && !roulette(&mut tr, sampler) {
+            return Rgb::BLACK;
+        }
+    }
+    if tracker.capped() {
+        return Rgb::BLACK;
     }
     tr
 }
@@ -157,6 +261,9 @@ pub fn delta_tracking_transmittance(
             return Rgb::BLACK;
         }
     }
+    if tracker.capped() {
+        return Rgb::BLACK;
+    }
     Rgb::WHITE
 }
 
@@ -169,12 +276,16 @@ pub fn residual_ratio_tracking(
     sampler: &mut Sampler,
 ) -> Rgb {
     let mut tr = Rgb::WHITE;
+    let mut steps = 0u32;
     for seg in medium.majorants(ray, t_max) {
         if seg.decay != 0.0 || seg.t1.is_infinite() {
             // No control for varying majorants, and an unbounded segment (a global
             // medium) has nothing left to track once the control is taken out:
             // plain ratio tracking, which knows when to stop.
-            tr *= ratio_tracking_segment(&seg, medium, ray, sampler);
+            tr *= ratio_tracking_segment(&seg, medium, ray, true, sampler);
+            if tr.is_black() {
+                return tr;
+            }
             continue;
         }
         let control = seg.sigma_control;
@@ -191,11 +302,19 @@ pub fn residual_ratio_tracking(
             if t >= seg.t1 {
                 break;
             }
+            steps += 1;
+            if steps > MAX_TENTATIVE_COLLISIONS {
+                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                return Rgb::BLACK;
+            }
             let props = medium.properties(ray.at(t));
             let residual = props.sigma_a + props.sigma_s - control;
             tr *= Rgb::WHITE - residual / residual_maj;
             if negligible(tr) {
                 return tr;
+            }
+            if !roulette(&mut tr, sampler) {
+                return Rgb::BLACK;
             }
         }
     }
@@ -207,23 +326,16 @@ fn ratio_tracking_segment(
     seg: &MajorantSegment,
     medium: &Medium,
     ray: &Ray,
+    with_roulette: bool,
     sampler: &mut Sampler,
 ) -> Rgb {
-    let mut tracker = Tracker {
+    let tracker = Tracker {
         segments: MajorantIter::Single(None),
         current: Some(*seg),
         t: seg.t0,
+        steps: 0,
     };
-    let mut tr = Rgb::WHITE;
-    while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t));
-        let sigma_t = props.sigma_a + props.sigma_s;
-        tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
-        if negligible(tr) || inert(tr, sigma_t) {
-            break;
-        }
-    }
-    tr
+    ratio_track(tracker, medium, ray, with_roulette, sampler)
 }
 
 /// True when no channel of a tracking weight is a normal float any more.
@@ -343,6 +455,10 @@ pub fn sample_free_flight(
         }
         match tracker.next(sampler) {
             Some(c) => *collision = c,
+            None if tracker.capped() => {
+                *throughput = Rgb::BLACK;
+                return FreeFlight::Absorbed;
+            }
             None => trackers[slot] = None,
         }
     }
@@ -354,11 +470,35 @@ pub fn sample_free_flight(
 /// for a homogeneous medium over a distance d the second moment is
 /// exp(-(2σt - σt²/σ̄) d). The renderer never inflates its majorants; this
 /// exists so that tests can check that relation for σ̄ = 1×, 2×, 10× σt.
+/// It plays no Russian roulette, which would raise the second moment.
 pub fn ratio_tracking_scaled_majorant(
     medium: &Medium,
     ray: &Ray,
     t_max: f32,
     scale: f32,
+    sampler: &mut Sampler,
+) -> Rgb {
+    scaled_majorant_tracking(medium, ray, t_max, scale, false, sampler)
+}
+
+/// [`ratio_tracking_scaled_majorant`] with the renderer's Russian roulette:
+/// for tests that its mean is still exp(-τ).
+pub fn ratio_tracking_scaled_majorant_roulette(
+    medium: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    scale: f32,
+    sampler: &mut Sampler,
+) -> Rgb {
+    scaled_majorant_tracking(medium, ray, t_max, scale, true, sampler)
+}
+
+fn scaled_majorant_tracking(
+    medium: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    scale: f32,
+    with_roulette: bool,
     sampler: &mut Sampler,
 ) -> Rgb {
     let mut tr = Rgb::WHITE;
@@ -367,7 +507,7 @@ pub fn ratio_tracking_scaled_majorant(
             sigma_maj: seg.sigma_maj * scale.max(1.0),
             ..seg
         };
-        tr *= ratio_tracking_segment(&inflated, medium, ray, sampler);
+        tr *= ratio_tracking_segment(&inflated, medium, ray, with_roulette, sampler);
     }
     tr
 }
