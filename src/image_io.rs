@@ -7,6 +7,33 @@
 use crate::color::{linear_to_srgb, Rgb};
 use crate::error::{Error, Result};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Temporary files being written now, for [`discard_temporaries`].
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes the temporary files of writes under way: called before an
+/// immediate exit (a second Ctrl-C) so that no `.NAME.tmp-PID` is left behind.
+pub fn discard_temporaries() {
+    let pending = match PENDING.lock() {
+        Ok(p) => p,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    for tmp in pending.iter() {
+        let _ = std::fs::remove_file(tmp);
+    }
+}
+
+fn set_pending(tmp: &Path, pending: bool) {
+    let mut list = match PENDING.lock() {
+        Ok(p) => p,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    list.retain(|p| p != tmp);
+    if pending {
+        list.push(tmp.to_path_buf());
+    }
+}
 
 /// A finished (or partial) image in linear RGB with what produced it.
 pub struct Image {
@@ -63,14 +90,19 @@ fn write_atomically(
     write: impl FnOnce(&Path) -> std::result::Result<(), String>,
 ) -> Result<()> {
     let tmp = temp_path(path);
-    if let Err(message) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(output_error(path, message));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        output_error(path, e.to_string())
-    })
+    set_pending(&tmp, true);
+    let result = match write(&tmp) {
+        Err(message) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(output_error(path, message))
+        }
+        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            output_error(path, e.to_string())
+        }),
+    };
+    set_pending(&tmp, false);
+    result
 }
 
 /// Writes a linear RGB float EXR, recording spp and completeness in the header.

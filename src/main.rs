@@ -237,6 +237,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     // A second signal exits at once; the first asks the render to stop and save.
     let _ = ctrlc::set_handler(move || {
         if flag.swap(true, Ordering::SeqCst) {
+            image_io::discard_temporaries();
             std::process::exit(EXIT_INTERRUPTED);
         }
     });
@@ -249,6 +250,16 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         progress: show,
     };
     let out = render(&scene, &options, &cancel);
+    if out.image.spp == 0 {
+        // Only a stop before the first pass finished gets here: an image of
+        // 0 samples is black, and must not replace an earlier render.
+        eprintln!(
+            "interrupted before the first pass finished: nothing written, {} and {} left as they were",
+            exr_path.display(),
+            png_path.display()
+        );
+        return Ok(EXIT_INTERRUPTED);
+    }
     image_io::write_exr(&exr_path, &out.image)?;
     image_io::write_png(&png_path, &out.image, args.exposure)?;
     if !args.quiet {

@@ -123,7 +123,11 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
     let mut partial = false;
     loop {
         let budget_left = match options.time_budget {
-            Some(t) => start.elapsed() < t && (!options.spp_is_cap || spp_done < options.spp),
+            // A time budget always gets its first pass: no render ends with 0 samples.
+            Some(t) => {
+                (spp_done == 0 || start.elapsed() < t)
+                    && (!options.spp_is_cap || spp_done < options.spp)
+            }
             None => spp_done < options.spp,
         };
         if !budget_left {
@@ -147,7 +151,11 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
                 }
                 for (i, px) in rows.iter_mut().enumerate() {
                     let (x, y) = ((i % w) as u32, (band * BAND_ROWS + i / w) as u32);
-                    *px = render_pixel(scene, x, y, spp_done, count);
+                    match render_pixel(scene, x, y, spp_done, count, cancel) {
+                        Some(p) => *px = p,
+                        // Stopped: the band is not counted, so the pass is dropped.
+                        None => return,
+                    }
                 }
                 bands_done.fetch_add(1, Ordering::Relaxed);
                 bar.inc(1);
@@ -213,13 +221,25 @@ fn progress_bar(options: &RenderOptions, bands: u64) -> ProgressBar {
     bar
 }
 
-/// Sums `count` samples of pixel (x, y) starting at sample index `first`.
-fn render_pixel(scene: &Scene, x: u32, y: u32, first: u32, count: u32) -> Pixel {
+/// Sums `count` samples of pixel (x, y) starting at sample index `first`;
+/// `None` once `cancel` is set (checked before every sample, so a stop
+/// request is seen within one sample's time whatever the scene).
+fn render_pixel(
+    scene: &Scene,
+    x: u32,
+    y: u32,
+    first: u32,
+    count: u32,
+    cancel: &AtomicBool,
+) -> Option<Pixel> {
     let mut px = Pixel::default();
     for s in first..first + count {
+        if cancel.load(Ordering::Relaxed) {
+            return None;
+        }
         px.add(pixel_sample(scene, x, y, s));
     }
-    px
+    Some(px)
 }
 
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
