@@ -22,13 +22,42 @@ use validate::Check;
 
 /// Reads, validates and builds the scene in `path`.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Input {
-        path: path.to_path_buf(),
-        message: format!("cannot read scene file: {e}"),
-    })?;
+    load_with_inputs(path).map(|(scene, _)| scene)
+}
+
+/// [`load`], with every file the scene reads: the scene file, its OBJ and VDB files.
+pub fn load_with_inputs(path: &Path) -> Result<(Scene, Vec<PathBuf>)> {
+    let text = read_scene_text(path)?;
     let desc = parse(&text, path)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    build(&desc, path, &base)
+    let scene = build(&desc, path, &base)?;
+    let mut inputs = vec![path.to_path_buf()];
+    inputs.extend(
+        desc.shapes
+            .iter()
+            .filter_map(|s| s.file.as_ref())
+            .map(|f| resolve(&base, f)),
+    );
+    inputs.extend(desc.media.iter().filter_map(|m| match m {
+        description::MediumDesc::Vdb(v) => Some(resolve(&base, &v.file)),
+        _ => None,
+    }));
+    Ok((scene, inputs))
+}
+
+/// Largest scene file read (scene files are hand-written; meshes go in OBJ files).
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// The text of a scene file, refusing what is not a regular file of sane size.
+fn read_scene_text(path: &Path) -> Result<String> {
+    let input = |message: String| Error::Input {
+        path: path.to_path_buf(),
+        message,
+    };
+    if let Some(problem) = crate::error::input_file_problem(path, MAX_SCENE_BYTES) {
+        return Err(input(format!("cannot read scene file: {problem}")));
+    }
+    std::fs::read_to_string(path).map_err(|e| input(format!("cannot read scene file: {e}")))
 }
 
 /// Parses scene TOML; errors carry the line (syntax) or the dotted path of the culprit.

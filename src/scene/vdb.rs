@@ -27,7 +27,7 @@ use super::validate::Check;
 use crate::color::Rgb;
 use crate::error::Result;
 use crate::medium::{GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium};
-use crate::volume::{load_float_grid, FloatGrid};
+use crate::volume::{load_float_grid, FloatGrid, VolumeError, MAX_VDB_BYTES};
 
 /// The fields of a `type = "vdb"` medium.
 #[derive(Debug, Deserialize)]
@@ -83,9 +83,22 @@ fn default_density_scale() -> f32 {
 /// Kelvin per unit of temperature-grid value when `temperature_scale` is absent.
 const DEFAULT_TEMPERATURE_SCALE: f32 = 1000.0;
 
-/// Loads grid `name` of `path`, turning a volume error into one that names the field.
-fn load(path: &Path, name: &str, field: &str, check: &Check) -> Result<FloatGrid> {
-    load_float_grid(path, name).map_err(|e| check.error(field, e.to_string()))
+/// Loads grid `name` of `path`, turning a volume error into one that names the
+/// field: the grid's field for a grid problem, `file_field` when the file
+/// itself cannot be read (not a VDB, damaged header).
+fn load(
+    path: &Path,
+    name: &str,
+    (file_field, field): (&str, &str),
+    check: &Check,
+) -> Result<FloatGrid> {
+    load_float_grid(path, name).map_err(|e| {
+        let culprit = match e {
+            VolumeError::Io { .. } | VolumeError::BadFile { .. } => file_field,
+            _ => field,
+        };
+        check.error(culprit, e.to_string())
+    })
 }
 
 /// The grid medium of one `type = "vdb"` entry.
@@ -97,10 +110,10 @@ pub(crate) fn build_vdb_medium(
 ) -> Result<Medium> {
     let f = |name: &str| format!("{field}.{name}");
     let path = super::resolve(base, &desc.file);
-    if !path.is_file() {
+    if let Some(problem) = crate::error::input_file_problem(&path, MAX_VDB_BYTES) {
         return Err(check.error(
             &f("file"),
-            format!("cannot read VDB file {}", path.display()),
+            format!("cannot read VDB file {}: {problem}", path.display()),
         ));
     }
     let density_scale = check.finite(&f("density_scale"), desc.density_scale)?;
@@ -125,7 +138,7 @@ pub(crate) fn build_vdb_medium(
             ))
         }
     };
-    let density = load(&path, &desc.grid, &f("grid"), check)?;
+    let density = load(&path, &desc.grid, (&f("file"), &f("grid")), check)?;
     let params = GridMediumParams {
         to_world: build_transform(desc.transform.as_ref(), field, check)?,
         density_scale,
@@ -173,14 +186,14 @@ fn build_emission(desc: &VdbDesc, path: &Path, field: &str, check: &Check) -> Re
     if let Some(name) = &desc.temperature_grid {
         let scale = desc.temperature_scale.unwrap_or(DEFAULT_TEMPERATURE_SCALE);
         return Ok(GridEmission::Blackbody {
-            temperature: load(path, name, &f("temperature_grid"), check)?,
+            temperature: load(path, name, (&f("file"), &f("temperature_grid")), check)?,
             temperature_scale: check.positive(&f("temperature_scale"), scale)?,
             emission_scale,
         });
     }
     if let Some(name) = &desc.emission_grid {
         return Ok(GridEmission::Grid {
-            grid: load(path, name, &f("emission_grid"), check)?,
+            grid: load(path, name, (&f("file"), &f("emission_grid")), check)?,
             emission_scale,
         });
     }
