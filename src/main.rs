@@ -118,6 +118,9 @@ fn main() {
 /// passes (128 + SIGINT, as shells report an interrupted command).
 const EXIT_INTERRUPTED: i32 = 130;
 
+/// Largest accepted `--time`: a billion seconds, far below what `Instant` can add.
+const MAX_TIME_SECONDS: u64 = 1_000_000_000;
+
 /// Largest accepted `--threads`.
 const MAX_THREADS: usize = 1024;
 
@@ -179,7 +182,7 @@ fn argument(name: &str, message: &str) -> Error {
 }
 
 fn run_render(args: RenderArgs) -> Result<i32> {
-    let mut scene = brume::scene::load(&args.scene)?;
+    let (mut scene, inputs) = brume::scene::load_with_inputs(&args.scene)?;
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));
@@ -206,7 +209,17 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         Some(t) if !(t.is_finite() && t > 0.0) => {
             return Err(argument("--time", "must be a positive number of seconds"))
         }
-        Some(t) => Some(Duration::from_secs_f64(t)),
+        Some(t) => match Duration::try_from_secs_f64(t) {
+            Ok(d) if d.as_secs() <= MAX_TIME_SECONDS => Some(d),
+            _ => {
+                return Err(argument(
+                    "--time",
+                    &format!(
+                        "must be at most {MAX_TIME_SECONDS} seconds (about 31 years), got {t}"
+                    ),
+                ))
+            }
+        },
         None => None,
     };
     if !args.exposure.is_finite() {
@@ -228,8 +241,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         .png
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
-    image_io::check_writable(&exr_path)?;
-    image_io::check_writable(&png_path)?;
+    check_outputs(&exr_path, &png_path, &inputs)?;
     check_memory(&scene, &args.scene)?;
 
     let cancel = Arc::new(AtomicBool::new(false));
@@ -339,6 +351,50 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
         );
     }
     Ok(0)
+}
+
+/// The output rules, checked before rendering: each output a writable file
+/// (see `image_io::check_writable`), the two outputs different files, and
+/// neither one an input of the render; a wrong extension is only a warning.
+fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
+    image_io::check_writable(exr)?;
+    image_io::check_writable(png)?;
+    let (exr_c, png_c) = (image_io::canonical(exr), image_io::canonical(png));
+    if exr_c == png_c {
+        return Err(argument(
+            "--png",
+            &format!(
+                "{} is the same file as the EXR output {}; give two different files",
+                png.display(),
+                exr.display()
+            ),
+        ));
+    }
+    for (flag, out, out_c) in [("--out", exr, &exr_c), ("--png", png, &png_c)] {
+        if let Some(input) = inputs.iter().find(|i| image_io::canonical(i) == *out_c) {
+            return Err(argument(
+                flag,
+                &format!(
+                    "{} is an input of the render ({}); brume never overwrites its inputs",
+                    out.display(),
+                    input.display()
+                ),
+            ));
+        }
+    }
+    for (flag, out, ext) in [("--out", exr, "exr"), ("--png", png, "png")] {
+        let matches = out
+            .extension()
+            .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case(ext));
+        if !matches {
+            eprintln!(
+                "warning: {flag} {}: the file is written as {} but its name does not end in .{ext}",
+                out.display(),
+                ext.to_uppercase()
+            );
+        }
+    }
+    Ok(())
 }
 
 /// Refuses an image too large for this machine before rendering: a failed
