@@ -182,7 +182,11 @@ fn argument(name: &str, message: &str) -> Error {
 }
 
 fn run_render(args: RenderArgs) -> Result<i32> {
-    let (mut scene, inputs) = brume::scene::load_with_inputs(&args.scene)?;
+    let loaded = brume::scene::load_with_inputs(&args.scene)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));

@@ -49,7 +49,7 @@ mod tree;
 use std::path::{Path, PathBuf};
 
 pub use error::VolumeError;
-pub use grid::{Block, FloatGrid};
+pub use grid::{Block, FloatGrid, ValueCensus};
 pub use info::info_report;
 pub use transform::GridTransform;
 
