@@ -10,6 +10,33 @@ use crate::tonemap::Tonemap;
 use exr::prelude::ReadChannels as _;
 use exr::prelude::ReadLayers as _;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Temporary files being written now, for [`discard_temporaries`].
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes the temporary files of writes under way: called before an
+/// immediate exit (a second Ctrl-C) so that no `.NAME.tmp-PID` is left behind.
+pub fn discard_temporaries() {
+    let pending = match PENDING.lock() {
+        Ok(p) => p,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    for tmp in pending.iter() {
+        let _ = std::fs::remove_file(tmp);
+    }
+}
+
+fn set_pending(tmp: &Path, pending: bool) {
+    let mut list = match PENDING.lock() {
+        Ok(p) => p,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    list.retain(|p| p != tmp);
+    if pending {
+        list.push(tmp.to_path_buf());
+    }
+}
 
 mod film_exr;
 pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_with};
@@ -44,16 +71,74 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
 }
 
-/// Checks before rendering that `path` can be created: the folder exists and is writable.
+/// The file a write to `path` replaces: the end of its chain of symbolic
+/// links (even a dangling one), else `path` itself.
+pub fn destination(path: &Path) -> PathBuf {
+    let mut p = path.to_path_buf();
+    // 40 links, as the kernel allows, then give up on a loop.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&p) {
+                Ok(target) if target.is_absolute() => p = target,
+                Ok(target) => p = p.parent().map(|d| d.join(&target)).unwrap_or(target),
+                Err(_) => break,
+            },
+            _ => break,
+        }
+    }
+    p
+}
+
+/// A comparable form of `path` (absolute, links resolved), existing or not.
+pub fn canonical(path: &Path) -> PathBuf {
+    let dest = destination(path);
+    if let Ok(c) = dest.canonicalize() {
+        return c;
+    }
+    let folder = match dest.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    match (folder.canonicalize(), dest.file_name()) {
+        (Ok(f), Some(name)) => f.join(name),
+        _ => dest,
+    }
+}
+
+/// Checks before rendering that `path` can be written: a file name (not a
+/// folder), in a folder that exists and is writable, replacing nothing but a
+/// regular file (a symbolic link is written through to its target).
 pub fn check_writable(path: &Path) -> Result<()> {
     let bad = |m: String| Error::Argument {
         argument: path.display().to_string(),
         message: m,
     };
-    if path.is_dir() {
+    let text = path.as_os_str().to_string_lossy();
+    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
+        return Err(bad(if path.is_dir() {
+            "is a folder; give a file name inside it".into()
+        } else {
+            "names a folder that does not exist; give a file name in an existing folder".into()
+        }));
+    }
+    let dest = destination(path);
+    if dest.is_dir() {
         return Err(bad("is a directory".into()));
     }
-    let probe = temp_path(path);
+    if let Ok(m) = std::fs::metadata(&dest) {
+        if !m.is_file() {
+            return Err(bad(
+                "exists and is not a regular file (a device, FIFO or socket); brume only replaces regular files"
+                    .into(),
+            ));
+        }
+    }
+    if let Some(folder) = dest.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !folder.is_dir() {
+            return Err(bad(format!("folder {} does not exist", folder.display())));
+        }
+    }
+    let probe = temp_path(&dest);
     match std::fs::File::create(&probe) {
         Ok(_) => {
             let _ = std::fs::remove_file(&probe);
@@ -63,20 +148,27 @@ pub fn check_writable(path: &Path) -> Result<()> {
     }
 }
 
-/// Writes through `write` into a temporary file, then renames it onto `path`.
+/// Writes through `write` into a temporary file, then renames it onto `path`
+/// (onto the target of `path` when it is a symbolic link, which stays a link).
 fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> std::result::Result<(), String>,
 ) -> Result<()> {
-    let tmp = temp_path(path);
-    if let Err(message) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(output_error(path, message));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        output_error(path, e.to_string())
-    })
+    let dest = destination(path);
+    let tmp = temp_path(&dest);
+    set_pending(&tmp, true);
+    let result = match write(&tmp) {
+        Err(message) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(output_error(path, message))
+        }
+        Ok(()) => std::fs::rename(&tmp, &dest).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            output_error(path, e.to_string())
+        }),
+    };
+    set_pending(&tmp, false);
+    result
 }
 
 /// Writes a linear RGB float EXR, recording spp and completeness in the header.

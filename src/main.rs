@@ -170,6 +170,9 @@ fn main() {
 /// passes (128 + SIGINT, as shells report an interrupted command).
 const EXIT_INTERRUPTED: i32 = 130;
 
+/// Largest accepted `--time`: a billion seconds, far below what `Instant` can add.
+const MAX_TIME_SECONDS: u64 = 1_000_000_000;
+
 /// Largest accepted `--threads`.
 const MAX_THREADS: usize = 1024;
 
@@ -265,7 +268,11 @@ fn argument(name: &str, message: &str) -> Error {
 }
 
 fn run_render(args: RenderArgs) -> Result<i32> {
-    let mut scene = brume::scene::load(&args.scene)?;
+    let loaded = brume::scene::load_with_inputs(&args.scene)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));
@@ -292,7 +299,17 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         Some(t) if !(t.is_finite() && t > 0.0) => {
             return Err(argument("--time", "must be a positive number of seconds"))
         }
-        Some(t) => Some(Duration::from_secs_f64(t)),
+        Some(t) => match Duration::try_from_secs_f64(t) {
+            Ok(d) if d.as_secs() <= MAX_TIME_SECONDS => Some(d),
+            _ => {
+                return Err(argument(
+                    "--time",
+                    &format!(
+                        "must be at most {MAX_TIME_SECONDS} seconds (about 31 years), got {t}"
+                    ),
+                ))
+            }
+        },
         None => None,
     };
     if !args.exposure.is_finite() {
@@ -348,8 +365,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         .png
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
-    image_io::check_writable(&exr_path)?;
-    image_io::check_writable(&png_path)?;
+    check_outputs(&exr_path, &png_path, &inputs)?;
     check_memory(&scene, &args.scene)?;
 
     let cancel = Arc::new(AtomicBool::new(false));
@@ -357,6 +373,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     // A second signal exits at once; the first asks the render to stop and save.
     let _ = ctrlc::set_handler(move || {
         if flag.swap(true, Ordering::SeqCst) {
+            image_io::discard_temporaries();
             std::process::exit(EXIT_INTERRUPTED);
         }
     });
@@ -389,6 +406,16 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         None => None,
     };
     let mut out = render_live(&scene, &options, &part, &cancel, display, checkpoint);
+    if out.image.spp == 0 {
+        // Only a stop before the first pass finished gets here: an image of
+        // 0 samples is black, and must not replace an earlier render.
+        eprintln!(
+            "interrupted before the first pass finished: nothing written, {} and {} left as they were",
+            exr_path.display(),
+            png_path.display()
+        );
+        return Ok(EXIT_INTERRUPTED);
+    }
     out.film.provenance.scene_hash = scene_hash;
     if scene.aovs.is_empty() {
         image_io::write_film_exr(&exr_path, &out.film)?;
@@ -586,6 +613,50 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
     Ok(0)
 }
 
+/// The output rules, checked before rendering: each output a writable file
+/// (see `image_io::check_writable`), the two outputs different files, and
+/// neither one an input of the render; a wrong extension is only a warning.
+fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
+    image_io::check_writable(exr)?;
+    image_io::check_writable(png)?;
+    let (exr_c, png_c) = (image_io::canonical(exr), image_io::canonical(png));
+    if exr_c == png_c {
+        return Err(argument(
+            "--png",
+            &format!(
+                "{} is the same file as the EXR output {}; give two different files",
+                png.display(),
+                exr.display()
+            ),
+        ));
+    }
+    for (flag, out, out_c) in [("--out", exr, &exr_c), ("--png", png, &png_c)] {
+        if let Some(input) = inputs.iter().find(|i| image_io::canonical(i) == *out_c) {
+            return Err(argument(
+                flag,
+                &format!(
+                    "{} is an input of the render ({}); brume never overwrites its inputs",
+                    out.display(),
+                    input.display()
+                ),
+            ));
+        }
+    }
+    for (flag, out, ext) in [("--out", exr, "exr"), ("--png", png, "png")] {
+        let matches = out
+            .extension()
+            .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case(ext));
+        if !matches {
+            eprintln!(
+                "warning: {flag} {}: the file is written as {} but its name does not end in .{ext}",
+                out.display(),
+                ext.to_uppercase()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Refuses an image too large for this machine before rendering: a failed
 /// allocation mid-render would abort the process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
@@ -642,6 +713,14 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",
             out.nonfinite_samples
+        );
+    }
+    if out.capped_rays > 0 {
+        eprintln!(
+            "warning: {} rays reached the cap of {} tentative collisions and were ended \
+             (the image is biased dark there; a tighter majorant, majorant = \"grid\", avoids it)",
+            out.capped_rays,
+            brume::integrator::tracking::MAX_TENTATIVE_COLLISIONS
         );
     }
 }

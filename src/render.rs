@@ -49,6 +49,8 @@ pub struct RenderOutput {
     pub samples: u64,
     /// Tentative collisions of the media tracking and their null fraction.
     pub tracking: TrackingStats,
+    /// Rays ended by the tracking cap (`tracking::MAX_TENTATIVE_COLLISIONS`).
+    pub capped_rays: u64,
 }
 
 /// Per-pixel running sums.
@@ -160,6 +162,7 @@ pub fn render_part(
         .num_threads(options.threads.unwrap_or(0))
         .build()
         .expect("thread pool");
+    let capped_before = crate::integrator::tracking::capped_rays();
     let spp_total = options.spp;
     let options = RenderOptions {
         spp: part.samples.len(),
@@ -172,6 +175,7 @@ pub fn render_part(
         let provenance = &mut out.film.provenance;
         provenance.spp_total = provenance.spp_total.max(spp_total);
     }
+    out.capped_rays = crate::integrator::tracking::capped_rays() - capped_before;
     out
 }
 
@@ -194,7 +198,11 @@ fn render_in_pool(
     let mut tracking = TrackingStats::default();
     loop {
         let budget_left = match options.time_budget {
-            Some(t) => start.elapsed() < t && (!options.spp_is_cap || spp_done < options.spp),
+            // A time budget always gets its first pass: no render ends with 0 samples.
+            Some(t) => {
+                (spp_done == 0 || start.elapsed() < t)
+                    && (!options.spp_is_cap || spp_done < options.spp)
+            }
             None => spp_done < options.spp,
         };
         if !budget_left {
@@ -221,7 +229,11 @@ fn render_in_pool(
                 take_thread_stats();
                 for (i, px) in rows.iter_mut().enumerate() {
                     let (x, y) = ((i % w) as u32, (band * BAND_ROWS + i / w) as u32);
-                    *px = render_pixel(scene, x0 + x, y0 + y, first + spp_done, count);
+                    match render_pixel(scene, x0 + x, y0 + y, first + spp_done, count, cancel) {
+                        Some(p) => *px = p,
+                        // Stopped: the band is not counted, so the pass is dropped.
+                        None => return TrackingStats::default(),
+                    }
                 }
                 bands_done.fetch_add(1, Ordering::Relaxed);
                 bar.inc(1);
@@ -271,6 +283,7 @@ fn render_in_pool(
         nonfinite_samples: nonfinite,
         samples: spp_done as u64 * (w * h) as u64,
         tracking,
+        capped_rays: 0,
     }
 }
 
@@ -328,13 +341,25 @@ fn progress_bar(options: &RenderOptions, bands: u64) -> ProgressBar {
     bar
 }
 
-/// Sums `count` samples of pixel (x, y) starting at sample index `first`.
-fn render_pixel(scene: &Scene, x: u32, y: u32, first: u32, count: u32) -> Pixel {
+/// Sums `count` samples of pixel (x, y) starting at sample index `first`;
+/// `None` once `cancel` is set (checked before every sample, so a stop
+/// request is seen within one sample's time whatever the scene).
+fn render_pixel(
+    scene: &Scene,
+    x: u32,
+    y: u32,
+    first: u32,
+    count: u32,
+    cancel: &AtomicBool,
+) -> Option<Pixel> {
     let mut px = Pixel::default();
     for s in first..first + count {
+        if cancel.load(Ordering::Relaxed) {
+            return None;
+        }
         px.add(pixel_sample(scene, x, y, s));
     }
-    px
+    Some(px)
 }
 
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.

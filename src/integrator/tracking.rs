@@ -5,6 +5,26 @@
 //! Woodcock et al. 1965 (delta tracking); Novák et al. 2014 (ratio and
 //! residual ratio tracking); Kutz et al. 2017 (spectral and decomposition
 //! tracking); Miller et al. 2019 (the null-scattering path integral).
+//!
+//! # Bounded work per ray
+//!
+//! A ray costs one step per tentative collision, σ̄·d of them on average, so
+//! a dense volume (`density_scale = 1e6`) or a loose majorant could make one
+//! ray take millions of steps. Two mechanisms bound it:
+//!
+//! * Russian roulette on the transmittance weight (ratio and residual ratio
+//!   tracking): once every channel of the running product is below
+//!   [`ROULETTE_THRESHOLD`], the estimate survives with probability
+//!   p = max|T| / threshold and is divided by p. Its expectation is unchanged
+//!   (p · T/p = T), so the estimator stays unbiased; a shadow ray through a
+//!   thick medium ends after the few steps that take T below the threshold
+//!   instead of walking on until T underflows.
+//! * A hard cap of [`MAX_TENTATIVE_COLLISIONS`] per medium per ray, for the
+//!   cases roulette cannot shorten (free flight through a loose majorant).
+//!   A ray reaching it is ended, its transmittance or throughput set to zero
+//!   (a bias toward dark, in pathological scenes only), and counted: the
+//!   render reports how many rays hit the cap, as it reports non-finite
+//!   samples. No scene of the test suite comes near it.
 
 use crate::color::Rgb;
 use crate::math::Ray;
@@ -17,6 +37,52 @@ pub use stats::{take_thread_stats, TrackingStats};
 mod kernel;
 mod stats;
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Below this max channel a transmittance weight plays Russian roulette.
+pub const ROULETTE_THRESHOLD: f32 = 0.1;
+
+/// Most tentative collisions one tracker takes along one ray (see the module doc).
+pub const MAX_TENTATIVE_COLLISIONS: u32 = 1 << 16;
+
+/// Rays ended by the cap since the process started.
+static CAPPED_RAYS: AtomicU64 = AtomicU64::new(0);
+
+/// Number of rays ended by [`MAX_TENTATIVE_COLLISIONS`] so far in this process.
+pub fn capped_rays() -> u64 {
+    CAPPED_RAYS.load(Ordering::Relaxed)
+}
+
+/// Russian roulette on a tracking weight: false if the weight was killed.
+///
+/// Unbiased: the survivor is divided by its survival probability.
+#[inline]
+fn roulette(w: &mut Rgb, sampler: &mut Sampler) -> bool {
+    let m = w.map(f32::abs).max_channel();
+    if m >= ROULETTE_THRESHOLD {
+        return true;
+    }
+    let p = m / ROULETTE_THRESHOLD;
+    if sampler.next_1d() < p {
+        *w /= p;
+        true
+    } else {
+        *w = Rgb::BLACK;
+        false
+    }
+}
+
+/// The next tracking position: `next`, or the next float after `t` when a
+/// step rounds to nothing (so a tracker always moves on).
+#[inline]
+fn advance(t: f32, next: f32) -> f32 {
+    if next > t {
+        next
+    } else {
+        t.next_up()
+    }
+}
+
 /// Walks the tentative collisions of one medium along a ray: a Poisson
 /// process with rate σ̄(t) given by the medium's majorant segments.
 #[derive(Clone, Debug)]
@@ -24,6 +90,7 @@ pub struct Tracker<'a> {
     segments: MajorantIter<'a>,
     current: Option<MajorantSegment>,
     t: f32,
+    steps: u32,
 }
 
 /// One tentative collision: where, and the majorant there.
@@ -47,6 +114,7 @@ impl<'a> Tracker<'a> {
             segments,
             current,
             t,
+            steps: 0,
         }
     }
 
@@ -56,11 +124,25 @@ impl<'a> Tracker<'a> {
             segments: MajorantIter::Single(None),
             current: Some(seg),
             t: seg.t0,
+            steps: 0,
         }
+    }
+
+    /// True once the tracker stopped at [`MAX_TENTATIVE_COLLISIONS`].
+    pub fn capped(&self) -> bool {
+        self.steps > MAX_TENTATIVE_COLLISIONS
     }
 
     /// Advances to the next tentative collision, or `None` past the last segment.
     pub fn next(&mut self, sampler: &mut Sampler) -> Option<Collision> {
+        if self.steps >= MAX_TENTATIVE_COLLISIONS {
+            if self.steps == MAX_TENTATIVE_COLLISIONS {
+                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                self.steps += 1;
+            }
+            return None;
+        }
+        self.steps += 1;
         let mut tau = -(1.0 - sampler.next_1d()).ln();
         loop {
             let seg = self.current?;
@@ -74,7 +156,7 @@ impl<'a> Tracker<'a> {
                     // first: on an unbounded segment 0 · ∞ is NaN.
                     let dt = tau / sigma;
                     if dt < length {
-                        self.t = t + dt;
+                        self.t = advance(t, t + dt).min(seg.t1);
                         return Some(self.collision(&seg));
                     }
                     tau -= sigma * length;
@@ -83,7 +165,7 @@ impl<'a> Tracker<'a> {
                     let available = sigma * (-(-k * length).exp_m1()) / k;
                     if tau < available {
                         let dt = -(1.0 - tau * k / sigma).ln() / k;
-                        self.t = (t + dt).min(seg.t1);
+                        self.t = advance(t, t + dt).min(seg.t1);
                         return Some(self.collision(&seg));
                     }
                     tau -= available;
@@ -143,14 +225,16 @@ pub fn medium_transmittance(
 /// Ratio tracking: T = Π (1 - σt(x_i)/σ̄(x_i)) over tentative collisions, per channel.
 pub fn ratio_tracking(medium: &Medium, ray: &Ray, t_max: f32, sampler: &mut Sampler) -> Rgb {
     let tracker = Tracker::new(medium, ray, t_max);
-    dispatch!(medium, m => ratio_track(m, tracker, ray, sampler))
+    dispatch!(medium, m => ratio_track(m, tracker, ray, true, sampler))
 }
 
-/// The ratio-tracking loop over the collisions of `tracker`, for one concrete medium.
+/// The ratio-tracking loop over the collisions of `tracker`, for one concrete
+/// medium, with or without Russian roulette.
 fn ratio_track<M: TrackedMedium>(
     medium: &M,
     mut tracker: Tracker,
     ray: &Ray,
+    with_roulette: bool,
     sampler: &mut Sampler,
 ) -> Rgb {
     let mut tr = Rgb::WHITE;
@@ -160,8 +244,14 @@ fn ratio_track<M: TrackedMedium>(
         tally.add(sigma_t.max_channel(), c.sigma_maj);
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
-            break;
+            return tr;
         }
+        if with_roulette && !roulette(&mut tr, sampler) {
+            return Rgb::BLACK;
+        }
+    }
+    if tracker.capped() {
+        return Rgb::BLACK;
     }
     tr
 }
@@ -193,6 +283,9 @@ fn delta_track<M: TrackedMedium>(
             return Rgb::BLACK;
         }
     }
+    if tracker.capped() {
+        return Rgb::BLACK;
+    }
     Rgb::WHITE
 }
 
@@ -216,12 +309,16 @@ fn residual_ratio_track<M: TrackedMedium>(
 ) -> Rgb {
     let mut tr = Rgb::WHITE;
     let mut tally = Tally::default();
+    let mut steps = 0u32;
     for seg in segments {
         if seg.decay != 0.0 || seg.t1.is_infinite() {
             // No control for varying majorants, and an unbounded segment (a global
             // medium) has nothing left to track once the control is taken out:
             // plain ratio tracking, which knows when to stop.
-            tr *= ratio_track(medium, Tracker::single(seg), ray, sampler);
+            tr *= ratio_track(medium, Tracker::single(seg), ray, true, sampler);
+            if tr.is_black() {
+                return tr;
+            }
             continue;
         }
         let control = seg.sigma_control;
@@ -238,11 +335,19 @@ fn residual_ratio_track<M: TrackedMedium>(
             if t >= seg.t1 {
                 break;
             }
+            steps += 1;
+            if steps > MAX_TENTATIVE_COLLISIONS {
+                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                return Rgb::BLACK;
+            }
             let residual = medium.sigma_t(ray.at(t)) - control;
             tally.add(residual.max_channel(), residual_maj);
             tr *= Rgb::WHITE - residual / residual_maj;
             if negligible(tr) {
                 return tr;
+            }
+            if !roulette(&mut tr, sampler) {
+                return Rgb::BLACK;
             }
         }
     }
@@ -356,6 +461,10 @@ pub fn sample_free_flight(
             Step::Inert => trackers[slot] = None,
             Step::Null => match tracker.next(sampler) {
                 Some(c) => *collision = c,
+                None if tracker.capped() => {
+                    *throughput = Rgb::BLACK;
+                    return FreeFlight::Absorbed;
+                }
                 None => trackers[slot] = None,
             },
         }
@@ -393,6 +502,10 @@ fn free_flight_one<M: TrackedMedium>(
             Step::Inert => break,
             Step::Null => {}
         }
+    }
+    if tracker.capped() {
+        *throughput = Rgb::BLACK;
+        return FreeFlight::Absorbed;
     }
     FreeFlight::Passed
 }
@@ -457,13 +570,37 @@ pub fn ratio_tracking_scaled_majorant(
     scale: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
+    scaled_majorant_tracking(medium, ray, t_max, scale, false, sampler)
+}
+
+/// [`ratio_tracking_scaled_majorant`] with the Russian roulette the renderer plays.
+pub fn ratio_tracking_scaled_majorant_roulette(
+    medium: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    scale: f32,
+    sampler: &mut Sampler,
+) -> Rgb {
+    scaled_majorant_tracking(medium, ray, t_max, scale, true, sampler)
+}
+
+fn scaled_majorant_tracking(
+    medium: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    scale: f32,
+    with_roulette: bool,
+    sampler: &mut Sampler,
+) -> Rgb {
     let mut tr = Rgb::WHITE;
     for seg in medium.majorants(ray, t_max) {
         let inflated = MajorantSegment {
             sigma_maj: seg.sigma_maj * scale.max(1.0),
             ..seg
         };
-        tr *= dispatch!(medium, m => ratio_track(m, Tracker::single(inflated), ray, sampler));
+        tr *= dispatch!(medium, m => {
+            ratio_track(m, Tracker::single(inflated), ray, with_roulette, sampler)
+        });
     }
     tr
 }

@@ -135,6 +135,39 @@ pub fn default_cell_size(extent: IVec3) -> i32 {
     ((extent.max_element() + 31) / 32).clamp(4, 32)
 }
 
+/// Most null collisions a ray should expect crossing one majorant cell whose
+/// bound is the volume's maximum: past it the cells shrink (see `dense_cell_size`).
+const MAX_CELL_OPTICAL_DEPTH: f32 = 8.0;
+
+/// Most cells a majorant grid may hold (two f32 bounds each, 32 MB).
+const MAX_MAJORANT_CELLS: f32 = (1 << 22) as f32;
+
+/// The largest cell size (voxels) over which the volume's peak extinction
+/// gives at most `MAX_CELL_OPTICAL_DEPTH` null collisions, within the memory
+/// limit of `MAX_MAJORANT_CELLS`.
+///
+/// Tracking costs σ̄·d steps; a dense volume (`density_scale = 1e6`) over
+/// 8-voxel cells would spend ~10⁵ null collisions crossing one mostly empty
+/// cell at its edge. Finer cells bound σ̄ near the density itself.
+fn dense_cell_size(peak_per_voxel: f32, extent: IVec3) -> i32 {
+    let by_depth = if peak_per_voxel > 0.0 {
+        (MAX_CELL_OPTICAL_DEPTH / peak_per_voxel).floor().min(1e6) as i32
+    } else {
+        i32::MAX
+    };
+    let volume = extent.as_vec3().element_product();
+    let by_memory = (volume / MAX_MAJORANT_CELLS).cbrt().ceil() as i32;
+    by_depth.max(by_memory).max(1)
+}
+
+/// World length of one voxel step (the longest axis of index → world after `to_world`).
+fn voxel_world_length(grid: &FloatGrid, to_world: &Affine3A) -> f32 {
+    let m = Mat4::from(*to_world).as_dmat4() * grid.transform().index_to_world_matrix();
+    (0..3)
+        .map(|i| m.col(i).truncate().length())
+        .fold(0.0, f64::max) as f32
+}
+
 impl GridMedium {
     /// A medium over `density` (any origin: a VDB file's grid or one built in code).
     pub fn new(density: FloatGrid, params: GridMediumParams) -> GridMedium {
@@ -145,11 +178,14 @@ impl GridMedium {
             .map(|(lo, hi)| ((lo - IVec3::ONE).as_vec3(), (hi + IVec3::ONE).as_vec3()))
             .unwrap_or((Vec3::ZERO, Vec3::ZERO));
         let extent = (hi - lo).as_ivec3().max(IVec3::ONE);
+        let peak = density.value_range().1.max(density.background()).max(0.0)
+            * (params.sigma_t_scale * params.density_scale).max_channel()
+            * voxel_world_length(&density, &params.to_world);
         let cell = match params.majorant {
             MajorantMode::Grid => Vec3::splat(
                 params
                     .cell_size
-                    .unwrap_or_else(|| default_cell_size(extent))
+                    .unwrap_or_else(|| default_cell_size(extent).min(dense_cell_size(peak, extent)))
                     .max(1) as f32,
             ),
             MajorantMode::Global => extent.as_vec3(),

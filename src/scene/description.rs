@@ -203,9 +203,9 @@ pub enum LightDesc {
         /// Half-angle of the cone in degrees.
         #[serde(default = "default_cone_angle")]
         cone_angle: f32,
-        /// Width of the soft edge in degrees (inside the cone).
-        #[serde(default = "default_cone_falloff")]
-        cone_falloff: f32,
+        /// Width of the soft edge in degrees (inside the cone; default 5, or the whole cone if narrower).
+        #[serde(default)]
+        cone_falloff: Option<f32>,
     },
     /// The sun: a distant disk.
     Sun {
@@ -254,9 +254,8 @@ fn default_map_scale() -> Color {
 fn default_cone_angle() -> f32 {
     30.0
 }
-fn default_cone_falloff() -> f32 {
-    5.0
-}
+/// Soft edge of a spot light when `cone_falloff` is not given (at most the cone itself).
+pub const DEFAULT_CONE_FALLOFF: f32 = 5.0;
 fn default_sun_radius() -> f32 {
     0.265
 }
@@ -472,17 +471,17 @@ pub enum PhaseDesc {
     Isotropic {},
     /// Henyey–Greenstein with asymmetry g in (-1, 1).
     Hg {
-        /// Mean cosine.
-        g: f32,
+        /// Mean cosine (read in f64 so that a value that rounds to ±1 in f32 is reported as written).
+        g: f64,
     },
     /// Rayleigh.
     Rayleigh {},
     /// Two HG lobes: weight·HG(g_forward) + (1-weight)·HG(g_back).
     DoubleHg {
         /// Forward lobe asymmetry.
-        g_forward: f32,
+        g_forward: f64,
         /// Backward lobe asymmetry.
-        g_back: f32,
+        g_back: f64,
         /// Weight of the forward lobe in [0, 1].
         weight: f32,
     },

@@ -24,13 +24,56 @@ use validate::Check;
 
 /// Reads, validates and builds the scene in `path`.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Input {
-        path: path.to_path_buf(),
-        message: format!("cannot read scene file: {e}"),
-    })?;
+    load_with_inputs(path).map(|loaded| loaded.scene)
+}
+
+/// A loaded scene with what the command line needs around it.
+pub struct Loaded {
+    /// The scene.
+    pub scene: Scene,
+    /// Every file the scene reads: the scene file, its OBJ and VDB files.
+    pub inputs: Vec<PathBuf>,
+    /// Warnings, each `FILE: FIELD: message`: valid values that probably are not what was meant.
+    pub warnings: Vec<String>,
+}
+
+/// [`load`], with the scene's input files and warnings.
+pub fn load_with_inputs(path: &Path) -> Result<Loaded> {
+    let text = read_scene_text(path)?;
     let desc = parse(&text, path)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    build(&desc, path, &base)
+    let (scene, warnings) = build_with_warnings(&desc, path, &base)?;
+    let mut inputs = vec![path.to_path_buf()];
+    inputs.extend(
+        desc.shapes
+            .iter()
+            .filter_map(|s| s.file.as_ref())
+            .map(|f| resolve(&base, f)),
+    );
+    inputs.extend(desc.media.iter().filter_map(|m| match m {
+        description::MediumDesc::Vdb(v) => Some(resolve(&base, &v.file)),
+        _ => None,
+    }));
+    Ok(Loaded {
+        scene,
+        inputs,
+        warnings,
+    })
+}
+
+/// Largest scene file read (scene files are hand-written; meshes go in OBJ files).
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// The text of a scene file, refusing what is not a regular file of sane size.
+fn read_scene_text(path: &Path) -> Result<String> {
+    let input = |message: String| Error::Input {
+        path: path.to_path_buf(),
+        message,
+    };
+    if let Some(problem) = crate::error::input_file_problem(path, MAX_SCENE_BYTES) {
+        return Err(input(format!("cannot read scene file: {problem}")));
+    }
+    std::fs::read_to_string(path).map_err(|e| input(format!("cannot read scene file: {e}")))
 }
 
 /// Parses scene TOML; errors carry the line (syntax) or the dotted path of the culprit.
@@ -50,6 +93,7 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
             e.message().trim().replace('\n', " "),
         )
     })?;
+    check_table_shapes(&table).map_err(|(field, message)| scene_error(field, message))?;
     for (key, value) in table.iter_mut() {
         retag(value, key, key).map_err(|(field, message)| scene_error(field, message))?;
     }
@@ -65,6 +109,86 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
             message,
         )
     })
+}
+
+/// What a TOML value is, in TOML's words (`a string "diffuse"`, `an array`).
+fn toml_kind(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => format!("a string \"{s}\""),
+        toml::Value::Integer(i) => format!("the number {i}"),
+        toml::Value::Float(f) => format!("the number {f}"),
+        toml::Value::Boolean(b) => format!("{b}"),
+        toml::Value::Datetime(_) => "a date".into(),
+        toml::Value::Array(_) => "an array".into(),
+        toml::Value::Table(_) => "a table".into(),
+    }
+}
+
+/// A table written as the user would write it, for "expected ..." messages.
+fn table_example(key: &str) -> &'static str {
+    match key {
+        "material" => "{ type = \"diffuse\", albedo = 0.5 }",
+        "phase" => "{ type = \"hg\", g = 0.3 }",
+        "bounds" => "{ type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }",
+        "transform" => "{ translate = [0.0, 1.0, 0.0] }",
+        _ => "{ ... }",
+    }
+}
+
+/// Checks that tables are written as tables before serde sees them: its
+/// messages for a string or array in their place name Rust types
+/// (`expected struct CameraDesc`), not what to write.
+fn check_table_shapes(top: &toml::Table) -> std::result::Result<(), (String, String)> {
+    for key in ["camera", "integrator"] {
+        if let Some(v) = top.get(key) {
+            if !v.is_table() {
+                return Err((
+                    key.into(),
+                    format!(
+                        "expected one [{key}] table, got {} (write [{key}], not [[{key}]])",
+                        toml_kind(v)
+                    ),
+                ));
+            }
+        }
+    }
+    for key in ["light", "shape", "medium", "media"] {
+        match top.get(key) {
+            None => {}
+            Some(toml::Value::Array(items)) => {
+                for (i, item) in items.iter().enumerate() {
+                    let toml::Value::Table(t) = item else {
+                        return Err((
+                            format!("{key}[{i}]"),
+                            format!("expected a [[{key}]] table, got {}", toml_kind(item)),
+                        ));
+                    };
+                    for inner in ["material", "phase", "bounds", "transform"] {
+                        if let Some(v) = t.get(inner).filter(|v| !v.is_table()) {
+                            return Err((
+                                format!("{key}[{i}].{inner}"),
+                                format!(
+                                    "expected a table like {}, got {}",
+                                    table_example(inner),
+                                    toml_kind(v)
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+            Some(v) => {
+                return Err((
+                    key.into(),
+                    format!(
+                        "expected [[{key}]] tables (an array of tables), got {} (write [[{key}]], not [{key}])",
+                        toml_kind(v)
+                    ),
+                ))
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Keys whose tables carry a `type` that selects an enum variant.
@@ -128,6 +252,15 @@ fn field_path(path: &serde_path_to_error::Path) -> String {
 
 /// Builds the runtime scene from a parsed description.
 pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
+    build_with_warnings(desc, file, base).map(|(scene, _)| scene)
+}
+
+/// [`build`], with the warnings about values that are valid but probably not meant.
+pub fn build_with_warnings(
+    desc: &SceneDesc,
+    file: &Path,
+    base: &Path,
+) -> Result<(Scene, Vec<String>)> {
     let check = Check::new(file);
     let camera = build_camera(desc, &check)?;
     let integ = &desc.integrator;
@@ -210,7 +343,7 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base))
         .collect::<Result<Vec<_>>>()?;
 
-    Ok(Scene {
+    let scene = Scene {
         camera,
         geometry,
         shape_materials,
@@ -219,7 +352,8 @@ pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
         media,
         settings,
         aovs: build_aovs(&desc.film.aovs, &check)?,
-    })
+    };
+    Ok((scene, check.take_warnings()))
 }
 
 /// `[film] aovs`: known names, each once.
@@ -255,10 +389,15 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     if w > 32768 || h > 32768 {
         return Err(check.error("camera.resolution", "at most 32768 pixels a side"));
     }
-    if (look_at - position).length() == 0.0 {
+    // In f64: a look_at 1e30 away overflows the f32 length and is not a parallel up.
+    let view = look_at.as_dvec3() - position.as_dvec3();
+    if view.length() == 0.0 {
         return Err(check.error("camera.look_at", "equals camera.position"));
     }
-    let camera = Camera::new(position, look_at, up, c.fov, w, h)
+    // A step the f32 position can resolve: 1 m, or a thousandth of a huge position.
+    let step = position.length().max(1.0) * 1e-3 + 1.0;
+    let aim = position + (view / view.length()).as_vec3() * step;
+    let camera = Camera::new(position, aim, up, c.fov, w, h)
         .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))?;
     let axis = match c.fov_axis.as_deref() {
         None | Some("y" | "vertical") => FovAxis::Vertical,
@@ -282,7 +421,7 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     };
     let focus = match c.focus_distance {
         Some(f) => check.positive("camera.focus_distance", f)?,
-        None => (look_at - position).length(),
+        None => view.length() as f32,
     };
     Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
 }
@@ -334,7 +473,11 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Res
                 .try_normalize()
                 .ok_or_else(|| check.error(&f("look_at"), "equals the light position"))?;
             let outer = check.range(&f("cone_angle"), *cone_angle, 0.0, 180.0, false)?;
-            let falloff = check.range(&f("cone_falloff"), *cone_falloff, 0.0, outer, true)?;
+            // The default edge never exceeds a narrow cone: only a value the user wrote is checked.
+            let falloff = match cone_falloff {
+                Some(v) => check.range(&f("cone_falloff"), *v, 0.0, outer, true)?,
+                None => description::DEFAULT_CONE_FALLOFF.min(outer),
+            };
             Light::Spot {
                 position,
                 axis,

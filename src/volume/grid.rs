@@ -33,6 +33,50 @@ pub struct Block {
     pub max_value: f32,
 }
 
+/// Counts of the values a grid's lookups can return (every leaf value, active
+/// or not, every stored tile and the background), by kind.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ValueCensus {
+    /// Values counted (leaf voxels, tiles and the background, each once).
+    pub stored: u64,
+    /// NaN values.
+    pub nan: u64,
+    /// +∞ values.
+    pub pos_inf: u64,
+    /// -∞ values.
+    pub neg_inf: u64,
+    /// Finite values below zero.
+    pub negative: u64,
+    /// Largest finite value (-∞ if none).
+    pub max_finite: f32,
+    /// Smallest finite value (+∞ if none).
+    pub min_finite: f32,
+}
+
+impl ValueCensus {
+    /// NaN and infinite values together.
+    pub fn nonfinite(&self) -> u64 {
+        self.nan + self.pos_inf + self.neg_inf
+    }
+
+    fn add(&mut self, v: f32) {
+        self.stored += 1;
+        if v.is_nan() {
+            self.nan += 1;
+        } else if v == f32::INFINITY {
+            self.pos_inf += 1;
+        } else if v == f32::NEG_INFINITY {
+            self.neg_inf += 1;
+        } else {
+            if v < 0.0 {
+                self.negative += 1;
+            }
+            self.max_finite = self.max_finite.max(v);
+            self.min_finite = self.min_finite.min(v);
+        }
+    }
+}
+
 /// A constant region of the tree.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Tile {
@@ -304,6 +348,19 @@ impl FloatGrid {
             sum += t.value as f64 * (1u64 << (3 * t.log2)) as f64;
         }
         sum
+    }
+
+    /// NaN, infinite and negative counts over every value a lookup can return.
+    pub fn value_census(&self) -> ValueCensus {
+        let mut c = ValueCensus {
+            max_finite: f32::NEG_INFINITY,
+            min_finite: f32::INFINITY,
+            ..ValueCensus::default()
+        };
+        self.leaf_values.iter().for_each(|&v| c.add(v));
+        self.tiles.iter().for_each(|t| c.add(t.value));
+        c.add(self.background);
+        c
     }
 
     /// Number of 8³ leaf bricks.

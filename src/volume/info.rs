@@ -74,7 +74,7 @@ fn grid_json(file: &VdbFile, d: &super::GridDescriptor) -> Value {
                 "voxel_size": dvec(t.voxel_size()),
                 "index_to_world": rows,
             });
-            g["background"] = json!(grid.background());
+            g["background"] = num(grid.background());
             g["active_voxel_count"] = json!(grid.active_voxel_count());
             g["leaf_count"] = json!(grid.leaf_count());
             g["active_tile_count"] = json!(grid.active_tile_count());
@@ -84,7 +84,12 @@ fn grid_json(file: &VdbFile, d: &super::GridDescriptor) -> Value {
                 g["world_bbox"] = json!({"min": dvec(wmin), "max": dvec(wmax)});
             }
             let (lo, hi) = grid.value_range();
-            g["value_range"] = json!([lo, hi]);
+            g["value_range"] = json!([num(lo), num(hi)]);
+            let census = grid.value_census();
+            g["stored_values"] = json!(census.stored);
+            g["nan_values"] = json!(census.nan);
+            g["infinite_values"] = json!(census.pos_inf + census.neg_inf);
+            g["negative_values"] = json!(census.negative);
             let bytes = grid.memory_bytes();
             g["memory_bytes"] = json!(bytes);
             g["bytes_per_active_voxel"] =
@@ -92,6 +97,23 @@ fn grid_json(file: &VdbFile, d: &super::GridDescriptor) -> Value {
         }
     }
     g
+}
+
+/// A number, or its name ("inf", "-inf", "NaN") where JSON has none (it would print null).
+fn num(v: f32) -> Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        json!(v.to_string())
+    }
+}
+
+/// A JSON value as text, strings without their quotes.
+fn plain(v: &Value) -> String {
+    match v.as_str() {
+        Some(s) => s.to_string(),
+        None => v.to_string(),
+    }
 }
 
 fn compression_names(c: u32) -> String {
@@ -150,7 +172,7 @@ fn render_text(r: &Value) -> String {
         for row in t["index_to_world"].as_array().into_iter().flatten() {
             let _ = writeln!(s, "    {}", v(row));
         }
-        let _ = writeln!(s, "  background: {}", g["background"]);
+        let _ = writeln!(s, "  background: {}", plain(&g["background"]));
         let _ = writeln!(s, "  active voxels: {}", g["active_voxel_count"]);
         let _ = writeln!(
             s,
@@ -170,7 +192,13 @@ fn render_text(r: &Value) -> String {
         let _ = writeln!(
             s,
             "  value range: {} .. {}",
-            g["value_range"][0], g["value_range"][1]
+            plain(&g["value_range"][0]),
+            plain(&g["value_range"][1])
+        );
+        let _ = writeln!(
+            s,
+            "  stored values: {}, NaN: {}, infinite: {}, negative: {}",
+            g["stored_values"], g["nan_values"], g["infinite_values"], g["negative_values"]
         );
         let _ = writeln!(
             s,
