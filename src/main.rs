@@ -21,7 +21,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene file to EXR (linear) and PNG (sRGB preview).
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Describe the grids of an OpenVDB file: types, transform, voxel counts, bounds, values, memory.
     Info(InfoArgs),
     /// Render the airlight demo: targets fading with distance in haze, compared with Koschmieder's law.
@@ -151,7 +151,7 @@ struct RenderArgs {
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => run_render(args),
+        Command::Render(args) => run_render(*args),
         Command::Info(args) => run_info(args),
         Command::Airlight(args) => run_airlight(args),
         Command::Merge(args) => run_merge(args),

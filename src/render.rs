@@ -8,8 +8,8 @@
 use crate::color::Rgb;
 use crate::film::{Film, Provenance, Rect, SampleRange};
 use crate::image_io::Image;
-use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::aov::{aov_sample, Aov, AovPixel};
+use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::{li, Scene};
 use crate::sampling::Sampler;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -131,7 +131,13 @@ impl Part {
 
 /// Renders `scene`; stops early (keeping finished passes) once `cancel` is set.
 pub fn render(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
-    render_part(scene, options, &Part::whole(scene, options.spp), cancel, None)
+    render_part(
+        scene,
+        options,
+        &Part::whole(scene, options.spp),
+        cancel,
+        None,
+    )
 }
 
 /// Called after every finished pass with the image so far (marked partial).
@@ -145,7 +151,13 @@ pub fn render_observed(
     cancel: &AtomicBool,
     on_pass: Option<PassObserver>,
 ) -> RenderOutput {
-    render_part(scene, options, &Part::whole(scene, options.spp), cancel, on_pass)
+    render_part(
+        scene,
+        options,
+        &Part::whole(scene, options.spp),
+        cancel,
+        on_pass,
+    )
 }
 
 /// Renders sample indices `part.samples` of the pixels in `part.crop` only
