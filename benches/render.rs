@@ -24,7 +24,7 @@ fn bench_scene(c: &mut Criterion, name: &str, file: &str) {
                     // Spread the probe pixels over the whole image.
                     let (x, y) = (i * w / PIXELS, j * h / PIXELS);
                     let mut sampler = Sampler::new(0, x, y, pass);
-                    let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+                    let ray = scene.camera.sample_ray(x, y, &mut sampler);
                     sum += li(&scene, ray, &mut sampler).luminance();
                 }
             }

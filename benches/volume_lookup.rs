@@ -24,7 +24,7 @@ fn random_points(lo: Vec3, hi: Vec3, n: usize) -> Vec<Vec3> {
 }
 
 fn lookups(c: &mut Criterion) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/volumes/smoke_plume.vdb");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("volumes/smoke_plume.vdb");
     let grid = load_float_grid(&path, "density").expect("smoke_plume.vdb");
     let (lo, hi) = grid.index_bbox_active().expect("active voxels");
     let points = random_points(lo.as_vec3() - 2.0, hi.as_vec3() + 2.0, 1 << 16);

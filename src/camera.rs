@@ -1,21 +1,37 @@
-//! The pinhole camera and primary ray generation.
+//! The perspective camera (pinhole or thin lens) and primary ray generation.
 
 use crate::math::{Ray, Vec2, Vec3};
+use crate::sampling::{warp, Sampler};
 
-/// A pinhole camera with a vertical field of view.
+/// Which image axis the field of view spans.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FovAxis {
+    /// Across the image height (brume's default).
+    #[default]
+    Vertical,
+    /// Across the image width (the convention of many other renderers).
+    Horizontal,
+}
+
+/// A perspective camera: a pinhole, or a thin lens focused on a plane.
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
     position: Vec3,
     forward: Vec3,
     right: Vec3,
     up: Vec3,
+    /// tan of half the vertical field of view.
     tan_half_fov: f32,
+    /// Lens radius (0 = pinhole).
+    aperture_radius: f32,
+    /// Distance along `forward` of the plane in focus.
+    focus_distance: f32,
     width: u32,
     height: u32,
 }
 
 impl Camera {
-    /// A camera at `position` looking at `look_at`; `fov_degrees` spans the image height.
+    /// A pinhole camera at `position` looking at `look_at`; `fov_degrees` spans the image height.
     ///
     /// Returns `None` for a degenerate frame (look_at = position, or up parallel to the view).
     pub fn new(
@@ -37,9 +53,32 @@ impl Camera {
             right,
             up: right.cross(forward),
             tan_half_fov: (fov_degrees.to_radians() * 0.5).tan(),
+            aperture_radius: 0.0,
+            focus_distance: 1.0,
             width,
             height,
         })
+    }
+
+    /// Unit viewing direction (the camera's optical axis).
+    pub fn forward(&self) -> Vec3 {
+        self.forward
+    }
+
+    /// The same camera with its field of view measured along `axis` instead of the height.
+    pub fn with_fov_axis(mut self, axis: FovAxis) -> Camera {
+        if axis == FovAxis::Horizontal {
+            // `new` stored tan(fov/2) as the vertical half-extent.
+            self.tan_half_fov /= self.width as f32 / self.height as f32;
+        }
+        self
+    }
+
+    /// The same camera with a thin lens of `aperture_radius` focused at `focus_distance`.
+    pub fn with_lens(mut self, aperture_radius: f32, focus_distance: f32) -> Camera {
+        self.aperture_radius = aperture_radius;
+        self.focus_distance = focus_distance;
+        self
     }
 
     /// Image width in pixels.
@@ -52,7 +91,12 @@ impl Camera {
         self.height
     }
 
-    /// The primary ray through pixel `(x, y)` at sub-pixel offset `u` ∈ [0,1)² (row 0 at the top).
+    /// True when rays need a lens sample (aperture radius above 0).
+    pub fn has_lens(&self) -> bool {
+        self.aperture_radius > 0.0
+    }
+
+    /// The pinhole ray through pixel `(x, y)` at sub-pixel offset `u` ∈ [0,1)² (row 0 at the top).
     pub fn generate_ray(&self, x: u32, y: u32, u: Vec2) -> Ray {
         let ndc_x = ((x as f32 + u.x) / self.width as f32) * 2.0 - 1.0;
         let ndc_y = 1.0 - ((y as f32 + u.y) / self.height as f32) * 2.0;
@@ -61,6 +105,34 @@ impl Camera {
             + self.right * (ndc_x * self.tan_half_fov * aspect)
             + self.up * (ndc_y * self.tan_half_fov);
         Ray::new(self.position, dir.normalize())
+    }
+
+    /// The ray through pixel `(x, y)` at offset `u` leaving the lens at `u_lens` ∈ [0,1)².
+    ///
+    /// Every ray of one film point meets the others on the plane at
+    /// `focus_distance`, so points there are sharp.
+    pub fn generate_lens_ray(&self, x: u32, y: u32, u: Vec2, u_lens: Vec2) -> Ray {
+        let pinhole = self.generate_ray(x, y, u);
+        if !self.has_lens() {
+            return pinhole;
+        }
+        let focus = pinhole.at(self.focus_distance / pinhole.direction.dot(self.forward));
+        let d = warp::square_to_concentric_disk(u_lens) * self.aperture_radius;
+        let origin = self.position + self.right * d.x + self.up * d.y;
+        Ray::new(origin, (focus - origin).normalize())
+    }
+
+    /// A primary ray for pixel `(x, y)` drawn from `sampler`.
+    ///
+    /// The lens sample is drawn only with an aperture, so a pinhole camera
+    /// consumes the same random numbers (and makes the same image) as before lenses existed.
+    pub fn sample_ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
+        let u = sampler.next_2d();
+        if self.has_lens() {
+            self.generate_lens_ray(x, y, u, sampler.next_2d())
+        } else {
+            self.generate_ray(x, y, u)
+        }
     }
 }
 
@@ -78,5 +150,72 @@ mod tests {
         assert!((top.direction.y - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3);
         assert!(Camera::new(Vec3::ZERO, Vec3::ZERO, Vec3::Y, 40.0, 4, 4).is_none());
         assert!(Camera::new(Vec3::ZERO, Vec3::Y, Vec3::Y, 40.0, 4, 4).is_none());
+    }
+
+    #[test]
+    fn horizontal_fov_spans_the_width() {
+        let cam = Camera::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 200, 100)
+            .unwrap()
+            .with_fov_axis(FovAxis::Horizontal);
+        let right_edge = cam.generate_ray(199, 50, Vec2::new(1.0, 0.0));
+        // The right edge is 45° off axis; the top edge atan(0.5) up.
+        assert!((right_edge.direction.x - std::f32::consts::FRAC_1_SQRT_2).abs() < 1e-3);
+        let top = cam.generate_ray(100, 0, Vec2::new(0.0, 0.0)).direction;
+        assert!((top.y / -top.z - 0.5).abs() < 1e-3, "{top}");
+        let vertical = Camera::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 90.0, 200, 100).unwrap();
+        let top = vertical.generate_ray(100, 0, Vec2::ZERO).direction;
+        assert!((top.y / -top.z - 1.0).abs() < 1e-3, "{top}");
+    }
+
+    #[test]
+    fn zero_aperture_is_the_pinhole_bit_for_bit() {
+        let pinhole =
+            Camera::new(Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y, 35.0, 64, 48).unwrap();
+        let lens = pinhole.with_lens(0.0, 2.5);
+        let (mut a, mut b, mut c) = (
+            Sampler::from_seed(3),
+            Sampler::from_seed(3),
+            Sampler::from_seed(3),
+        );
+        for i in 0..200 {
+            let (x, y) = (i % 64, (i * 7) % 48);
+            let ra = pinhole.generate_ray(x, y, a.next_2d());
+            let rb = lens.sample_ray(x, y, &mut b);
+            let rc = lens.generate_lens_ray(x, y, c.next_2d(), Vec2::new(0.9, 0.1));
+            assert_eq!(ra.direction, rc.direction);
+            assert_eq!(ra.origin, rb.origin);
+            assert_eq!(ra.direction, rb.direction);
+        }
+        // Same stream position afterwards: no lens sample was drawn.
+        assert_eq!(a.next_1d(), b.next_1d());
+    }
+
+    #[test]
+    fn points_on_the_focus_plane_are_sharp_and_others_blur() {
+        let focus = 3.0;
+        let cam = Camera::new(Vec3::ZERO, -Vec3::Z, Vec3::Y, 40.0, 32, 32)
+            .unwrap()
+            .with_lens(0.2, focus);
+        let mut s = Sampler::from_seed(5);
+        for (x, y) in [(16, 16), (0, 0), (31, 5), (7, 30)] {
+            let u = Vec2::new(0.3, 0.8);
+            let pinhole = cam.generate_ray(x, y, u);
+            let target = pinhole.at(focus / pinhole.direction.dot(-Vec3::Z));
+            let mut spread_off_focus = 0.0f32;
+            for _ in 0..64 {
+                let r = cam.generate_lens_ray(x, y, u, s.next_2d());
+                // Where the ray crosses the plane z = -focus.
+                let on_plane = r.at((-focus - r.origin.z) / r.direction.z);
+                assert!(
+                    (on_plane - target).length() < 1e-5,
+                    "{on_plane} vs {target}"
+                );
+                let near = r.at((-1.0 - r.origin.z) / r.direction.z);
+                let pin_near = pinhole.at(-1.0 / pinhole.direction.z);
+                spread_off_focus = spread_off_focus.max((near - pin_near).length());
+            }
+            // At z = -1 the lens ray is (1 - 1/3) of the way from its lens point to the focus.
+            assert!(spread_off_focus > 0.1, "{spread_off_focus}");
+        }
     }
 }

@@ -34,6 +34,12 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// Pieces of a split render that cannot be merged into one image.
+    #[error("cannot merge: {message}")]
+    Merge {
+        /// Which piece and what is wrong with it.
+        message: String,
+    },
     /// An output file cannot be written.
     #[error("{}: cannot write output: {message}", path.display())]
     Output {
@@ -52,6 +58,31 @@ impl Error {
             _ => 2,
         }
     }
+}
+
+/// Why `path` cannot be read as an input file, if it cannot: missing, a
+/// folder, not a regular file (a FIFO or device such as /dev/zero, which
+/// would block or never end) or larger than `max_bytes`.
+pub fn input_file_problem(path: &std::path::Path, max_bytes: u64) -> Option<String> {
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Some("no such file".into()),
+        Err(e) => return Some(e.to_string()),
+    };
+    if meta.is_dir() {
+        return Some("is a directory, not a file".into());
+    }
+    if !meta.is_file() {
+        return Some("is not a regular file (a FIFO, socket or device)".into());
+    }
+    if meta.len() > max_bytes {
+        return Some(format!(
+            "is {:.1} MB, more than the {:.0} MB brume reads for this kind of file",
+            meta.len() as f64 / 1e6,
+            max_bytes as f64 / 1e6
+        ));
+    }
+    None
 }
 
 /// Result with brume's error.

@@ -8,17 +8,15 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 use brume::error::Result;
 use brume::image_io;
-use brume::render::{render, RenderOptions};
 use brume::scene::animation::{has_pattern, parse_frames, substitute};
 
 use super::{
-    apply_overrides, argument, check_memory, check_render_args, report, RenderArgs,
-    EXIT_INTERRUPTED,
+    apply_overrides, argument, check_render_args, install_interrupt_handler, render_and_write, Job,
+    RenderArgs, EXIT_INTERRUPTED,
 };
 
 /// The EXR and PNG patterns: the user's, or NAME.####.exr / NAME.####.png.
@@ -62,14 +60,15 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
         ));
     }
     let (exr_pattern, png_pattern) = output_patterns(args, frames.len())?;
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    let _ = ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(EXIT_INTERRUPTED);
-        }
-    });
-    let show = !args.quiet && std::io::stderr().is_terminal();
+    let cancel = install_interrupt_handler();
+    let mut job = Job {
+        args,
+        time_budget,
+        tonemap: brume::tonemap::Tonemap::from_name(&args.tonemap)
+            .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?,
+        show: !args.quiet && std::io::stderr().is_terminal(),
+        cancel: &cancel,
+    };
     for (i, &frame) in frames.iter().enumerate() {
         if cancel.load(Ordering::SeqCst) {
             // stopped between frames: write nothing for the frames not begun
@@ -88,7 +87,7 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
         if !args.quiet {
             eprintln!("{position}");
         }
-        let code = render_frame(args, frame, &exr, &png, time_budget, show, &cancel)?;
+        let code = render_frame(&mut job, frame, &exr, &png)?;
         if code != 0 {
             eprintln!(
                 "interrupted in {position}: earlier frames are complete; resume with --skip-existing"
@@ -100,36 +99,13 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
 }
 
 /// Builds, renders and writes one frame; its scene and volumes are dropped on return.
-fn render_frame(
-    args: &RenderArgs,
-    frame: i64,
-    exr: &Path,
-    png: &Path,
-    time_budget: Option<std::time::Duration>,
-    show: bool,
-    cancel: &AtomicBool,
-) -> Result<i32> {
-    let mut scene = brume::scene::load_frame(&args.scene, Some(frame))?;
-    apply_overrides(&mut scene, args)?;
-    image_io::check_writable(exr)?;
-    image_io::check_writable(png)?;
-    check_memory(&scene, &args.scene)?;
-    let options = RenderOptions {
-        spp: scene.settings.spp,
-        time_budget,
-        spp_is_cap: args.spp.is_some(),
-        threads: args.threads,
-        progress: show,
-    };
-    let out = render(&scene, &options, cancel);
-    image_io::write_exr(exr, &out.image)?;
-    image_io::write_png(png, &out.image, args.exposure)?;
-    if !args.quiet {
-        report(&out, exr, png);
+fn render_frame(job: &mut Job, frame: i64, exr: &Path, png: &Path) -> Result<i32> {
+    let args = job.args;
+    let loaded = brume::scene::load_frame_with_inputs(&args.scene, Some(frame))?;
+    for w in &loaded.warnings {
+        eprintln!("warning: frame {frame}: {w}");
     }
-    Ok(if out.image.partial {
-        EXIT_INTERRUPTED
-    } else {
-        0
-    })
+    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
+    job.tonemap = apply_overrides(&mut scene, args)?;
+    render_and_write(job, (&scene, Some(frame)), &inputs, exr, png)
 }

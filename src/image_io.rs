@@ -4,9 +4,42 @@
 //! and renamed over the destination only on success, so a failed or
 //! interrupted write never destroys an existing image.
 
-use crate::color::{linear_to_srgb, Rgb};
+use crate::color::Rgb;
 use crate::error::{Error, Result};
+use crate::tonemap::Tonemap;
+use exr::prelude::ReadChannels as _;
+use exr::prelude::ReadLayers as _;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Temporary files being written now, for [`discard_temporaries`].
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes the temporary files of writes under way: called before an
+/// immediate exit (a second Ctrl-C) so that no `.NAME.tmp-PID` is left behind.
+pub fn discard_temporaries() {
+    let pending = match PENDING.lock() {
+        Ok(p) => p,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    for tmp in pending.iter() {
+        let _ = std::fs::remove_file(tmp);
+    }
+}
+
+fn set_pending(tmp: &Path, pending: bool) {
+    let mut list = match PENDING.lock() {
+        Ok(p) => p,
+        Err(poisoned) => poisoned.into_inner(),
+    };
+    list.retain(|p| p != tmp);
+    if pending {
+        list.push(tmp.to_path_buf());
+    }
+}
+
+mod film_exr;
+pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_with};
 
 /// A finished (or partial) image in linear RGB with what produced it.
 pub struct Image {
@@ -38,16 +71,74 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
 }
 
-/// Checks before rendering that `path` can be created: the folder exists and is writable.
+/// The file a write to `path` replaces: the end of its chain of symbolic
+/// links (even a dangling one), else `path` itself.
+pub fn destination(path: &Path) -> PathBuf {
+    let mut p = path.to_path_buf();
+    // 40 links, as the kernel allows, then give up on a loop.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&p) {
+                Ok(target) if target.is_absolute() => p = target,
+                Ok(target) => p = p.parent().map(|d| d.join(&target)).unwrap_or(target),
+                Err(_) => break,
+            },
+            _ => break,
+        }
+    }
+    p
+}
+
+/// A comparable form of `path` (absolute, links resolved), existing or not.
+pub fn canonical(path: &Path) -> PathBuf {
+    let dest = destination(path);
+    if let Ok(c) = dest.canonicalize() {
+        return c;
+    }
+    let folder = match dest.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    match (folder.canonicalize(), dest.file_name()) {
+        (Ok(f), Some(name)) => f.join(name),
+        _ => dest,
+    }
+}
+
+/// Checks before rendering that `path` can be written: a file name (not a
+/// folder), in a folder that exists and is writable, replacing nothing but a
+/// regular file (a symbolic link is written through to its target).
 pub fn check_writable(path: &Path) -> Result<()> {
     let bad = |m: String| Error::Argument {
         argument: path.display().to_string(),
         message: m,
     };
-    if path.is_dir() {
+    let text = path.as_os_str().to_string_lossy();
+    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
+        return Err(bad(if path.is_dir() {
+            "is a folder; give a file name inside it".into()
+        } else {
+            "names a folder that does not exist; give a file name in an existing folder".into()
+        }));
+    }
+    let dest = destination(path);
+    if dest.is_dir() {
         return Err(bad("is a directory".into()));
     }
-    let probe = temp_path(path);
+    if let Ok(m) = std::fs::metadata(&dest) {
+        if !m.is_file() {
+            return Err(bad(
+                "exists and is not a regular file (a device, FIFO or socket); brume only replaces regular files"
+                    .into(),
+            ));
+        }
+    }
+    if let Some(folder) = dest.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !folder.is_dir() {
+            return Err(bad(format!("folder {} does not exist", folder.display())));
+        }
+    }
+    let probe = temp_path(&dest);
     match std::fs::File::create(&probe) {
         Ok(_) => {
             let _ = std::fs::remove_file(&probe);
@@ -57,20 +148,27 @@ pub fn check_writable(path: &Path) -> Result<()> {
     }
 }
 
-/// Writes through `write` into a temporary file, then renames it onto `path`.
+/// Writes through `write` into a temporary file, then renames it onto `path`
+/// (onto the target of `path` when it is a symbolic link, which stays a link).
 fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> std::result::Result<(), String>,
 ) -> Result<()> {
-    let tmp = temp_path(path);
-    if let Err(message) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(output_error(path, message));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        output_error(path, e.to_string())
-    })
+    let dest = destination(path);
+    let tmp = temp_path(&dest);
+    set_pending(&tmp, true);
+    let result = match write(&tmp) {
+        Err(message) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(output_error(path, message))
+        }
+        Ok(()) => std::fs::rename(&tmp, &dest).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            output_error(path, e.to_string())
+        }),
+    };
+    set_pending(&tmp, false);
+    result
 }
 
 /// Writes a linear RGB float EXR, recording spp and completeness in the header.
@@ -123,6 +221,91 @@ pub fn exr_is_complete(path: &Path) -> bool {
     })
 }
 
+/// One named channel of an EXR beside the beauty's R, G, B: OpenEXR layer
+/// naming, e.g. `A`, `albedo.R`, `normal.X`, `depth.Z`; row-major values.
+pub type NamedChannel = (String, Vec<f32>);
+
+/// Writes the beauty as `R`, `G`, `B` plus `extra` channels in one part
+/// (what compositors read as layers), with the same header records as [`write_exr`].
+pub fn write_exr_with_channels(path: &Path, image: &Image, extra: &[NamedChannel]) -> Result<()> {
+    use exr::meta::attribute::{AttributeValue, Text};
+    use exr::prelude::{
+        AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer, LayerAttributes,
+        SmallVec, WritableImage,
+    };
+    let (w, h) = (image.width, image.height);
+    if let Some((name, _)) = extra.iter().find(|(_, v)| v.len() != w * h) {
+        return Err(output_error(
+            path,
+            format!("channel {name} does not match the image size"),
+        ));
+    }
+    let beauty = |f: fn(&Rgb) -> f32| image.pixels.iter().map(f).collect::<Vec<f32>>();
+    let mut channels = vec![
+        AnyChannel::new("R", FlatSamples::F32(beauty(|c| c.r))),
+        AnyChannel::new("G", FlatSamples::F32(beauty(|c| c.g))),
+        AnyChannel::new("B", FlatSamples::F32(beauty(|c| c.b))),
+    ];
+    for (name, values) in extra {
+        channels.push(AnyChannel::new(
+            name.as_str(),
+            FlatSamples::F32(values.clone()),
+        ));
+    }
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::named("rgb"),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(channels)),
+    );
+    let mut exr_image = ExrImage::from_layer(layer);
+    let other = &mut exr_image.attributes.other;
+    other.insert(
+        Text::from("brume:spp"),
+        AttributeValue::I32(image.spp as i32),
+    );
+    other.insert(
+        Text::from("brume:complete"),
+        AttributeValue::I32(if image.partial { 0 } else { 1 }),
+    );
+    write_atomically(path, |tmp| {
+        exr_image.write().to_file(tmp).map_err(|e| e.to_string())
+    })
+}
+
+/// Reads every channel of every layer of an EXR: width, height and the
+/// channels by their full names (a named layer's channels as `layer.channel`).
+pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>)> {
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| Error::Input {
+            path: path.to_path_buf(),
+            message: format!("cannot read EXR: {e}"),
+        })?;
+    let mut size = (0, 0);
+    let mut out = Vec::new();
+    for layer in &image.layer_data {
+        size = (layer.size.width(), layer.size.height());
+        // brume's own single-part files name their part `rgb`; keep channel names as written.
+        let prefix = match &layer.attributes.layer_name {
+            Some(name) if !name.eq("rgb") && image.layer_data.len() > 1 => {
+                format!("{name}.")
+            }
+            _ => String::new(),
+        };
+        for channel in &layer.channel_data.list {
+            let values = channel.sample_data.values_as_f32().collect();
+            out.push((format!("{prefix}{}", channel.name), values));
+        }
+    }
+    Ok((size.0, size.1, out))
+}
+
 /// Reads an RGB EXR back (for tests and tools): width, height, pixels.
 pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
     use exr::prelude::read_first_rgba_layer_from_file;
@@ -152,26 +335,42 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
 
 /// Writes an 8-bit sRGB PNG after scaling by 2^exposure and clamping.
 pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
+    write_png_tonemapped(path, image, exposure, Tonemap::Clip)
+}
+
+/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and the tone curve `tonemap`.
+pub fn write_png_tonemapped(
+    path: &Path,
+    image: &Image,
+    exposure: f32,
+    tonemap: Tonemap,
+) -> Result<()> {
     let scale = exposure.exp2();
     let mut bytes = Vec::with_capacity(image.width * image.height * 3);
     for c in &image.pixels {
         for v in [c.r, c.g, c.b] {
-            bytes.push((linear_to_srgb(v * scale) * 255.0 + 0.5) as u8);
+            bytes.push(tonemap.srgb8(v, scale));
         }
     }
-    write_atomically(path, |tmp| {
-        let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
-        let mut encoder = png::Encoder::new(
-            std::io::BufWriter::new(file),
-            image.width as u32,
-            image.height as u32,
-        );
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-        writer.write_image_data(&bytes).map_err(|e| e.to_string())?;
-        writer.finish().map_err(|e| e.to_string())
-    })
+    write_png_srgb8(path, image.width as u32, image.height as u32, &bytes)
+}
+
+/// Writes ready-made 8-bit sRGB pixels (row-major RGB, e.g. a plot) as a PNG.
+pub fn write_png_srgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
+    if rgb.len() != width as usize * height as usize * 3 {
+        return Err(output_error(path, "pixel buffer does not match the size"));
+    }
+    write_atomically(path, |tmp| encode_png(tmp, width, height, rgb))
+}
+
+fn encode_png(tmp: &Path, width: u32, height: u32, rgb: &[u8]) -> std::result::Result<(), String> {
+    let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    writer.write_image_data(rgb).map_err(|e| e.to_string())?;
+    writer.finish().map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

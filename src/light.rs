@@ -1,13 +1,18 @@
 //! Lights: point, spot, area (emissive shapes), sun and environment.
 
 use crate::color::Rgb;
+use crate::envmap::EnvMap;
 use crate::geometry::{Geometry, Primitive};
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
 use std::f32::consts::PI;
+use std::sync::Arc;
+
+mod sphere;
+use sphere::Cone;
 
 /// Radiance arriving from the sky in a direction, for environments.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Environment {
     /// The same radiance from every direction.
     Constant {
@@ -25,6 +30,8 @@ pub enum Environment {
         /// Unit up axis.
         up: Vec3,
     },
+    /// A lat-long HDR image, importance-sampled.
+    Map(Arc<EnvMap>),
 }
 
 impl Environment {
@@ -32,6 +39,7 @@ impl Environment {
     pub fn radiance(&self, dir: Vec3) -> Rgb {
         match *self {
             Environment::Constant { radiance } => radiance,
+            Environment::Map(ref map) => map.radiance(dir),
             Environment::Sky {
                 zenith,
                 horizon,
@@ -86,6 +94,8 @@ pub enum Light {
         primitives: Vec<u32>,
         /// Cumulative areas of `primitives`, last entry = total area.
         cumulative_area: Vec<f32>,
+        /// Centre and radius when the shape is one sphere: sampled by its cone of directions.
+        sphere: Option<(Vec3, f32)>,
     },
     /// A distant disk light (the sun); a delta light when `cos_max` is 1.
     Sun {
@@ -128,12 +138,20 @@ impl Light {
                 cumulative_area.push(total);
             }
         }
+        let sphere = match primitives.as_slice() {
+            &[only] => match geometry.primitives()[only as usize] {
+                Primitive::Sphere { center, radius } => Some((center, radius)),
+                _ => None,
+            },
+            _ => None,
+        };
         Light::Area {
             shape,
             radiance,
             two_sided,
             primitives,
             cumulative_area,
+            sphere,
         }
     }
 
@@ -188,47 +206,7 @@ impl Light {
                     is_delta: true,
                 })
             }
-            Light::Area {
-                radiance,
-                two_sided,
-                primitives,
-                cumulative_area,
-                ..
-            } => {
-                let total = *cumulative_area.last()?;
-                let target = u.x * total;
-                let k = cumulative_area
-                    .partition_point(|&c| c <= target)
-                    .min(primitives.len() - 1);
-                let lo = if k == 0 { 0.0 } else { cumulative_area[k - 1] };
-                let width = cumulative_area[k] - lo;
-                // Reuse the remainder of u.x inside the chosen primitive.
-                let ux = if width > 0.0 {
-                    ((target - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
-                } else {
-                    0.0
-                };
-                let prim: &Primitive = &geometry.primitives()[primitives[k] as usize];
-                let a = prim.sample_area(Vec2::new(ux, u.y));
-                let d = a.p - p;
-                let dist2 = d.length_squared();
-                let distance = dist2.sqrt();
-                if distance == 0.0 {
-                    return None;
-                }
-                let wi = d / distance;
-                let cos_light = a.n.dot(-wi);
-                if cos_light <= 0.0 && !two_sided || cos_light == 0.0 {
-                    return None;
-                }
-                Some(LightSample {
-                    wi,
-                    distance,
-                    radiance: *radiance,
-                    pdf: dist2 / (cos_light.abs() * total),
-                    is_delta: false,
-                })
-            }
+            Light::Area { .. } => self.sample_area(p, u, geometry),
             Light::Sun {
                 to_sun,
                 irradiance,
@@ -252,6 +230,13 @@ impl Light {
                     is_delta: false,
                 })
             }
+            Light::Environment(Environment::Map(map)) => map.sample(u).map(|s| LightSample {
+                wi: s.wi,
+                distance: f32::INFINITY,
+                radiance: s.radiance,
+                pdf: s.pdf,
+                is_delta: false,
+            }),
             Light::Environment(env) => {
                 let wi = warp::square_to_uniform_sphere(u);
                 Some(LightSample {
@@ -263,6 +248,59 @@ impl Light {
                 })
             }
         }
+    }
+
+    /// Samples an area light: a sphere by its cone of directions, other shapes by area.
+    fn sample_area(&self, p: Vec3, u: Vec2, geometry: &Geometry) -> Option<LightSample> {
+        let Light::Area {
+            radiance,
+            two_sided,
+            primitives,
+            cumulative_area,
+            sphere,
+            ..
+        } = self
+        else {
+            return None;
+        };
+        if let Some((center, radius)) = *sphere {
+            if let Some(cone) = Cone::new(p, center, radius) {
+                return cone.light_sample(u, radius, *radiance);
+            }
+        }
+        let total = *cumulative_area.last()?;
+        let target = u.x * total;
+        let k = cumulative_area
+            .partition_point(|&c| c <= target)
+            .min(primitives.len() - 1);
+        let lo = if k == 0 { 0.0 } else { cumulative_area[k - 1] };
+        let width = cumulative_area[k] - lo;
+        // Reuse the remainder of u.x inside the chosen primitive.
+        let ux = if width > 0.0 {
+            ((target - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
+        } else {
+            0.0
+        };
+        let prim: &Primitive = &geometry.primitives()[primitives[k] as usize];
+        let a = prim.sample_area(Vec2::new(ux, u.y));
+        let d = a.p - p;
+        let dist2 = d.length_squared();
+        let distance = dist2.sqrt();
+        if distance == 0.0 {
+            return None;
+        }
+        let wi = d / distance;
+        let cos_light = a.n.dot(-wi);
+        if cos_light <= 0.0 && !two_sided || cos_light == 0.0 {
+            return None;
+        }
+        Some(LightSample {
+            wi,
+            distance,
+            radiance: *radiance,
+            pdf: dist2 / (cos_light.abs() * total),
+            is_delta: false,
+        })
     }
 
     /// Radiance an escaping ray with direction `dir` receives from this infinite light.
@@ -286,6 +324,7 @@ impl Light {
             Light::Sun {
                 to_sun, cos_max, ..
             } if *cos_max < 1.0 && dir.dot(*to_sun) >= *cos_max => warp::uniform_cone_pdf(*cos_max),
+            Light::Environment(Environment::Map(map)) => map.pdf(dir),
             Light::Environment(_) => warp::uniform_sphere_pdf(),
             _ => 0.0,
         }
@@ -307,8 +346,14 @@ impl Light {
     pub fn area_pdf(&self, p: Vec3, hit_p: Vec3, n: Vec3) -> f32 {
         match self {
             Light::Area {
-                cumulative_area, ..
+                cumulative_area,
+                sphere,
+                ..
             } => {
+                let cone = sphere.and_then(|(center, radius)| Cone::new(p, center, radius));
+                if let Some(cone) = cone {
+                    return cone.pdf();
+                }
                 let total = cumulative_area.last().copied().unwrap_or(0.0);
                 let d = hit_p - p;
                 let dist2 = d.length_squared();

@@ -2,7 +2,7 @@
 
 use brume::error::{Error, Result};
 use brume::image_io;
-use brume::render::{render, RenderOptions};
+use brume::render::{render_part, RenderOptions};
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -23,11 +23,42 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene file to EXR (linear) and PNG (sRGB preview).
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Describe the grids of an OpenVDB file: types, transform, voxel counts, bounds, values, memory.
     Info(InfoArgs),
     /// Render the airlight demo: targets fading with distance in haze, compared with Koschmieder's law.
     Airlight(AirlightArgs),
+    /// Merge the pieces of a split render (crops, sample ranges) into the image of the whole render.
+    Merge(MergeArgs),
+    /// Compare A.exr with the reference B.exr: RMSE, relative MSE, means, max difference.
+    Compare(CompareArgs),
+}
+
+#[derive(clap::Args)]
+struct MergeArgs {
+    /// The pieces: EXR files written by `brume render` with --crop, --samples or --task-count.
+    #[arg(required = true)]
+    pieces: Vec<PathBuf>,
+    /// The merged EXR.
+    #[arg(long, short)]
+    out: PathBuf,
+    /// A PNG preview of the merged image.
+    #[arg(long)]
+    png: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct CompareArgs {
+    /// The image to judge (EXR).
+    a: PathBuf,
+    /// The reference image (EXR).
+    b: PathBuf,
+    /// Write a false-colour picture of the per-pixel error here (PNG).
+    #[arg(long)]
+    diff: Option<PathBuf>,
+    /// Exit with code 1 when the RMSE is above this (or an image holds NaN or infinity).
+    #[arg(long)]
+    max_rmse: Option<f64>,
 }
 
 #[derive(clap::Args)]
@@ -89,12 +120,29 @@ struct RenderArgs {
     /// Render progressive passes until this many seconds are spent (--spp then caps it).
     #[arg(long, allow_negative_numbers = true)]
     time: Option<f64>,
+    /// Tone curve of the PNG preview: aces (filmic, rolls highlights off) or clip.
+    #[arg(long, default_value = "aces", value_name = "aces|clip")]
+    tonemap: String,
     /// Exposure of the PNG preview in stops.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     exposure: f32,
     /// No progress bar and no summary.
     #[arg(long, short)]
     quiet: bool,
+    /// AOVs written as extra EXR layers, comma-separated: alpha,depth,normal,albedo,transmittance
+    /// (replaces the scene's [film] aovs; "none" for none).
+    #[arg(long, value_name = "LIST")]
+    aovs: Option<String>,
+    /// Denoise the beauty with Intel Open Image Denoise into a `denoised` layer
+    /// (adds the albedo and normal AOVs; needs a build with `--features denoise`).
+    #[arg(long)]
+    denoise: bool,
+    /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
+    #[arg(long, value_name = "HOST:PORT")]
+    display: Option<String>,
+    /// Rewrite the EXR and PNG (marked incomplete) every SECONDS during the render.
+    #[arg(long, value_name = "SECONDS")]
+    checkpoint: Option<f64>,
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
     #[arg(long, value_name = "X,Y")]
     debug_pixel: Option<String>,
@@ -105,14 +153,18 @@ struct RenderArgs {
     /// With --frames, skip frames whose EXR exists and is marked complete.
     #[arg(long, requires = "frames")]
     skip_existing: bool,
+    #[command(flatten)]
+    split: brume::split::SplitArgs,
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Render(args) => run_render(args),
+        Command::Render(args) => run_render(*args),
         Command::Info(args) => run_info(args),
         Command::Airlight(args) => run_airlight(args),
+        Command::Merge(args) => run_merge(args),
+        Command::Compare(args) => run_compare(args),
     };
     match result {
         Ok(code) => std::process::exit(code),
@@ -126,6 +178,9 @@ fn main() {
 /// Exit code of a render stopped by Ctrl-C or SIGTERM after saving its finished
 /// passes (128 + SIGINT, as shells report an interrupted command).
 const EXIT_INTERRUPTED: i32 = 130;
+
+/// Largest accepted `--time`: a billion seconds, far below what `Instant` can add.
+const MAX_TIME_SECONDS: u64 = 1_000_000_000;
 
 /// Largest accepted `--threads`.
 const MAX_THREADS: usize = 1024;
@@ -179,6 +234,40 @@ fn run_airlight(args: AirlightArgs) -> Result<i32> {
     Ok(0)
 }
 
+fn run_compare(args: CompareArgs) -> Result<i32> {
+    if let Some(m) = args.max_rmse {
+        if !(m.is_finite() && m >= 0.0) {
+            return Err(argument("--max-rmse", "must be a number at or above 0"));
+        }
+    }
+    if let Some(diff) = &args.diff {
+        image_io::check_writable(diff)?;
+    }
+    let (c, a, b) = brume::compare::compare_files(&args.a, &args.b)?;
+    print!("{}", c.report());
+    if let Some(diff) = &args.diff {
+        let scale = brume::compare::diff_scale(&a, &b);
+        let rgb = brume::compare::false_colour(&a, &b, scale);
+        let (w, h) = c.size;
+        image_io::write_png_srgb8(diff, w as u32, h as u32, &rgb)?;
+        println!(
+            "wrote {} (saturates at a mean |A-B| of {scale:.4e})",
+            diff.display()
+        );
+    }
+    match args.max_rmse {
+        Some(_) if c.nonfinite > 0 => {
+            println!("FAIL: {} non-finite channel values", c.nonfinite);
+            Ok(1)
+        }
+        Some(m) if c.rmse > m => {
+            println!("FAIL: rmse {:.6e} above --max-rmse {m:e}", c.rmse);
+            Ok(1)
+        }
+        _ => Ok(0),
+    }
+}
+
 fn argument(name: &str, message: &str) -> Error {
     Error::Argument {
         argument: name.into(),
@@ -190,17 +279,45 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if args.frames.is_some() {
         return frames_cli::run_frames(&args);
     }
-    let mut scene = brume::scene::load(&args.scene)?;
-    apply_overrides(&mut scene, &args)?;
     let time_budget = check_render_args(&args)?;
+    let loaded = brume::scene::load_with_inputs(&args.scene)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
+    let tonemap = apply_overrides(&mut scene, &args)?;
     if let Some(pixel) = &args.debug_pixel {
         return debug_pixel(&scene, pixel);
     }
-    render_still(args, scene, time_budget)
+    let stem = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "render".into());
+    let exr_path = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}.exr")));
+    let png_path = args
+        .png
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
+    let cancel = install_interrupt_handler();
+    let job = Job {
+        args: &args,
+        time_budget,
+        tonemap,
+        show: !args.quiet && std::io::stderr().is_terminal(),
+        cancel: &cancel,
+    };
+    render_and_write(&job, (&scene, None), &inputs, &exr_path, &png_path)
 }
 
-/// Applies --spp, --max-depth and --seed to a loaded scene.
-fn apply_overrides(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Result<()> {
+/// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene; returns the tonemap.
+fn apply_overrides(
+    scene: &mut brume::integrator::Scene,
+    args: &RenderArgs,
+) -> Result<brume::tonemap::Tonemap> {
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));
@@ -213,7 +330,25 @@ fn apply_overrides(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> R
     if let Some(seed) = args.seed {
         scene.settings.seed = seed;
     }
-    Ok(())
+    if let Some(list) = &args.aovs {
+        scene.aovs = parse_aovs(list)?;
+    }
+    if args.denoise {
+        if !brume::denoise::AVAILABLE {
+            return Err(argument(
+                "--denoise",
+                "this brume was built without the `denoise` feature (see docs/outputs.md)",
+            ));
+        }
+        use brume::integrator::aov::Aov;
+        for aov in [Aov::Albedo, Aov::Normal] {
+            if !scene.aovs.contains(&aov) {
+                scene.aovs.push(aov);
+            }
+        }
+    }
+    brume::tonemap::Tonemap::from_name(&args.tonemap)
+        .ok_or_else(|| argument("--tonemap", "must be aces or clip"))
 }
 
 /// Checks the arguments that do not depend on the scene; returns the time budget.
@@ -232,59 +367,132 @@ fn check_render_args(args: &RenderArgs) -> Result<Option<Duration>> {
         Some(t) if !(t.is_finite() && t > 0.0) => {
             return Err(argument("--time", "must be a positive number of seconds"))
         }
-        Some(t) => Some(Duration::from_secs_f64(t)),
+        Some(t) => match Duration::try_from_secs_f64(t) {
+            Ok(d) if d.as_secs() <= MAX_TIME_SECONDS => Some(d),
+            _ => {
+                return Err(argument(
+                    "--time",
+                    &format!(
+                        "must be at most {MAX_TIME_SECONDS} seconds (about 31 years), got {t}"
+                    ),
+                ))
+            }
+        },
         None => None,
     };
     if !args.exposure.is_finite() {
         return Err(argument("--exposure", "must be finite"));
     }
+    if args.split.is_piece() && time_budget.is_some() {
+        return Err(argument(
+            "--time",
+            "a piece (--crop, --samples, --task-count) renders a fixed sample range; leave out --time",
+        ));
+    }
     Ok(time_budget)
 }
 
-/// Continues `run_render` for a still image.
-fn render_still(
-    args: RenderArgs,
-    scene: brume::integrator::Scene,
-    time_budget: Option<Duration>,
-) -> Result<i32> {
-    let stem = args
-        .scene
-        .file_stem()
-        .map(|s| s.to_string_lossy().to_string())
-        .unwrap_or_else(|| "render".into());
-    let exr_path = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}.exr")));
-    let png_path = args
-        .png
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
-    image_io::check_writable(&exr_path)?;
-    image_io::check_writable(&png_path)?;
-    check_memory(&scene, &args.scene)?;
-
+/// The first Ctrl-C asks the render to stop and save; a second exits at once.
+fn install_interrupt_handler() -> Arc<AtomicBool> {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
-    // A second signal exits at once; the first asks the render to stop and save.
     let _ = ctrlc::set_handler(move || {
         if flag.swap(true, Ordering::SeqCst) {
+            image_io::discard_temporaries();
             std::process::exit(EXIT_INTERRUPTED);
         }
     });
-    let show = !args.quiet && std::io::stderr().is_terminal();
+    cancel
+}
+
+/// What a render takes beside the scene: the same for every frame of a sequence.
+struct Job<'a> {
+    args: &'a RenderArgs,
+    time_budget: Option<Duration>,
+    tonemap: brume::tonemap::Tonemap,
+    show: bool,
+    cancel: &'a Arc<AtomicBool>,
+}
+
+/// Renders one image of `scene` (a still, or the given frame) and writes its EXR and PNG; returns the exit code.
+fn render_and_write(
+    job: &Job,
+    (scene, frame): (&brume::integrator::Scene, Option<i64>),
+    inputs: &[PathBuf],
+    exr_path: &Path,
+    png_path: &Path,
+) -> Result<i32> {
+    let args = job.args;
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let part = brume::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
+    if args.split.is_piece() && !scene.aovs.is_empty() {
+        return Err(argument(
+            "--aovs",
+            "AOV layers are not supported on split renders (--crop, --samples, --task-count) yet",
+        ));
+    }
+    let scene_hash = brume::scene_hash::frame_scene_hash(&args.scene, &scene.settings, frame)?;
+    check_outputs(exr_path, png_path, inputs)?;
+    check_memory(scene, &args.scene)?;
     let options = RenderOptions {
         spp: scene.settings.spp,
-        time_budget,
+        time_budget: job.time_budget,
         spp_is_cap: args.spp.is_some(),
         threads: args.threads,
-        progress: show,
+        progress: job.show,
     };
-    let out = render(&scene, &options, &cancel);
-    image_io::write_exr(&exr_path, &out.image)?;
-    image_io::write_png(&png_path, &out.image, args.exposure)?;
+    let checkpoint = match args.checkpoint {
+        Some(t) if !(t.is_finite() && t > 0.0) => {
+            return Err(argument(
+                "--checkpoint",
+                "must be a positive number of seconds",
+            ))
+        }
+        Some(t) => Some(brume::checkpoint::Checkpoint::new(
+            Duration::from_secs_f64(t),
+            exr_path.to_path_buf(),
+            png_path.to_path_buf(),
+            args.exposure,
+            job.tonemap,
+        )),
+        None => None,
+    };
+    let display = match &args.display {
+        Some(address) => {
+            let name = args
+                .scene
+                .file_stem()
+                .map(|s| s.to_string_lossy().to_string())
+                .unwrap_or_else(|| "render".into());
+            Some(brume::display::Display::connect(address, &name)?)
+        }
+        None => None,
+    };
+    let mut out = render_live(scene, &options, &part, job.cancel, display, checkpoint);
+    if out.image.spp == 0 {
+        // Only a stop before the first pass finished gets here: an image of
+        // 0 samples is black, and must not replace an earlier render.
+        eprintln!(
+            "interrupted before the first pass finished: nothing written, {} and {} left as they were",
+            exr_path.display(),
+            png_path.display()
+        );
+        return Ok(EXIT_INTERRUPTED);
+    }
+    out.film.provenance.scene_hash = scene_hash;
+    if scene.aovs.is_empty() {
+        image_io::write_film_exr(exr_path, &out.film)?;
+    } else {
+        let mut layers =
+            brume::render::render_aovs(scene, &scene.aovs, out.image.spp, args.threads);
+        if args.denoise {
+            denoise_layer(&out.image, &mut layers, exr_path)?;
+        }
+        image_io::write_film_exr_with(exr_path, &out.film, &layers)?;
+    }
+    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)?;
     if !args.quiet {
-        report(&out, &exr_path, &png_path);
+        report(&out, exr_path, png_path);
     }
     if out.image.partial {
         // Said even with --quiet: the caller must know the image is not the full render.
@@ -297,6 +505,112 @@ fn render_still(
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)
+}
+
+fn run_merge(args: MergeArgs) -> Result<i32> {
+    let merged = brume::merge::merge_files(&args.pieces, &args.out, args.png.as_deref())?;
+    for note in &merged.notes {
+        eprintln!("{note}");
+    }
+    let p = &merged.film.provenance;
+    let (w, h) = merged.film.display;
+    eprintln!(
+        "merged {} pieces into {w}x{h} at {} spp{} -> {}",
+        args.pieces.len(),
+        p.spp_held(),
+        if p.complete() {
+            ""
+        } else {
+            " (incomplete: some pieces were interrupted)"
+        },
+        args.out.display()
+    );
+    Ok(0)
+}
+
+/// Appends the `denoised.R/G/B` channels, denoised from the beauty, albedo and normal.
+fn denoise_layer(
+    image: &image_io::Image,
+    layers: &mut Vec<image_io::NamedChannel>,
+    exr: &Path,
+) -> Result<()> {
+    let get = |name: &str| -> &[f32] {
+        layers
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+            .unwrap_or(&[])
+    };
+    let denoised = brume::denoise::denoise(
+        image.width,
+        image.height,
+        &image.pixels,
+        [get("albedo.R"), get("albedo.G"), get("albedo.B")],
+        [get("normal.X"), get("normal.Y"), get("normal.Z")],
+    )
+    .map_err(|message| Error::Output {
+        path: exr.to_path_buf(),
+        message,
+    })?;
+    for (name, values) in brume::denoise::CHANNELS.iter().zip(denoised) {
+        layers.push((name.to_string(), values));
+    }
+    Ok(())
+}
+
+/// `--aovs a,b,c`: known names, each once; `none` for none.
+fn parse_aovs(list: &str) -> Result<Vec<brume::integrator::aov::Aov>> {
+    use brume::integrator::aov::Aov;
+    let mut aovs = Vec::new();
+    if list.trim() == "none" {
+        return Ok(aovs);
+    }
+    for name in list.split(',').map(str::trim) {
+        let aov = Aov::from_name(name).ok_or_else(|| {
+            let known: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
+            argument(
+                "--aovs",
+                &format!(
+                    "unknown AOV `{name}`, expected none or a list of {}",
+                    known.join(", ")
+                ),
+            )
+        })?;
+        if !aovs.contains(&aov) {
+            aovs.push(aov);
+        }
+    }
+    Ok(aovs)
+}
+
+/// Renders, sending each finished pass to tev and to the checkpoint writer.
+/// A viewer that goes away or a failed checkpoint is reported once; the render goes on.
+fn render_live(
+    scene: &brume::integrator::Scene,
+    options: &RenderOptions,
+    part: &brume::render::Part,
+    cancel: &AtomicBool,
+    mut display: Option<brume::display::Display>,
+    mut checkpoint: Option<brume::checkpoint::Checkpoint>,
+) -> brume::render::RenderOutput {
+    if display.is_none() && checkpoint.is_none() {
+        return render_part(scene, options, part, cancel, None);
+    }
+    let mut on_pass = |image: &image_io::Image| {
+        if let Some(d) = &mut display {
+            if let Err(e) = d.show(image) {
+                eprintln!("warning: --display: lost the connection to tev ({e}); rendering on");
+                display = None;
+            }
+        }
+        if let Some(c) = &mut checkpoint {
+            if let Err(e) = c.pass_done(image) {
+                eprintln!("warning: --checkpoint: {e}; no more checkpoints");
+                checkpoint = None;
+            }
+        }
+    };
+    render_part(scene, options, part, cancel, Some(&mut on_pass))
 }
 
 /// `--debug-pixel X,Y`: the samples of one pixel, exactly as a full render takes them.
@@ -362,23 +676,73 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
     Ok(0)
 }
 
+/// The output rules, checked before rendering: each output a writable file
+/// (see `image_io::check_writable`), the two outputs different files, and
+/// neither one an input of the render; a wrong extension is only a warning.
+fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
+    image_io::check_writable(exr)?;
+    image_io::check_writable(png)?;
+    let (exr_c, png_c) = (image_io::canonical(exr), image_io::canonical(png));
+    if exr_c == png_c {
+        return Err(argument(
+            "--png",
+            &format!(
+                "{} is the same file as the EXR output {}; give two different files",
+                png.display(),
+                exr.display()
+            ),
+        ));
+    }
+    for (flag, out, out_c) in [("--out", exr, &exr_c), ("--png", png, &png_c)] {
+        if let Some(input) = inputs.iter().find(|i| image_io::canonical(i) == *out_c) {
+            return Err(argument(
+                flag,
+                &format!(
+                    "{} is an input of the render ({}); brume never overwrites its inputs",
+                    out.display(),
+                    input.display()
+                ),
+            ));
+        }
+    }
+    for (flag, out, ext) in [("--out", exr, "exr"), ("--png", png, "png")] {
+        let matches = out
+            .extension()
+            .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case(ext));
+        if !matches {
+            eprintln!(
+                "warning: {flag} {}: the file is written as {} but its name does not end in .{ext}",
+                out.display(),
+                ext.to_uppercase()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Refuses an image too large for this machine before rendering: a failed
 /// allocation mid-render would abort the process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let bytes = brume::render::peak_bytes(w, h);
-    // Reserving touches no page, so the probe itself costs nothing.
-    let fits = usize::try_from(bytes)
-        .ok()
-        .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
-    if fits {
-        return Ok(());
-    }
+    let limit = brume::render::MAX_PEAK_BYTES;
+    let why = if bytes > limit {
+        format!("more than brume's limit of {:.1} GB", limit as f64 / 1e9)
+    } else {
+        // Reserving touches no page, so the probe itself costs nothing.
+        let fits = usize::try_from(bytes)
+            .ok()
+            .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
+        if fits {
+            return Ok(());
+        }
+        "more than this machine can give".to_string()
+    };
     Err(Error::Scene {
         file: file.to_path_buf(),
         field: "camera.resolution".into(),
         message: format!(
-            "a {w}x{h} image needs {:.1} GB of memory, more than this machine can give",
+            "a {w}x{h} image needs {:.1} GB of memory, {why}",
             bytes as f64 / 1e9
         ),
     })
@@ -401,10 +765,25 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         exr.display(),
         png.display()
     );
+    if out.tracking.collisions > 0 {
+        eprintln!(
+            "tracking: {:.2} tentative collisions per sample, null fraction {:.3}",
+            out.tracking.collisions as f64 / out.samples.max(1) as f64,
+            out.tracking.null_fraction()
+        );
+    }
     if out.nonfinite_samples > 0 {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",
             out.nonfinite_samples
+        );
+    }
+    if out.capped_rays > 0 {
+        eprintln!(
+            "warning: {} rays reached the cap of {} tentative collisions and were ended \
+             (the image is biased dark there; a tighter majorant, majorant = \"grid\", avoids it)",
+            out.capped_rays,
+            brume::integrator::tracking::MAX_TENTATIVE_COLLISIONS
         );
     }
 }

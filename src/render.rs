@@ -6,7 +6,10 @@
 //! seed only, never on the thread count or scheduling.
 
 use crate::color::Rgb;
+use crate::film::{Film, Provenance, Rect, SampleRange};
 use crate::image_io::Image;
+use crate::integrator::aov::{aov_sample, Aov, AovPixel};
+use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::{li, Scene};
 use crate::sampling::Sampler;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -34,14 +37,20 @@ pub struct RenderOptions {
 
 /// What a render produced and how it went.
 pub struct RenderOutput {
-    /// The image (mean radiance per pixel).
+    /// The image (mean radiance per pixel of the data window).
     pub image: Image,
+    /// The sums and counts behind the image, for EXR output and `merge`.
+    pub film: Film,
     /// Wall-clock time.
     pub elapsed: Duration,
     /// Samples whose radiance was NaN or infinite and were left out.
     pub nonfinite_samples: u64,
     /// Total radiance samples taken.
     pub samples: u64,
+    /// Tentative collisions of the media tracking and their null fraction.
+    pub tracking: TrackingStats,
+    /// Rays ended by the tracking cap (`tracking::MAX_TENTATIVE_COLLISIONS`).
+    pub capped_rays: u64,
 }
 
 /// Per-pixel running sums.
@@ -52,9 +61,15 @@ struct Pixel {
     nonfinite: u32,
 }
 
-/// Bytes a `width`×`height` render holds at its peak: film, pass, image and PNG bytes.
+/// The most memory a render may hold at its peak (64 GiB): larger images are
+/// refused before rendering on every machine, whatever the kernel would grant
+/// (a reservation can succeed with overcommit and fail only when touched).
+pub const MAX_PEAK_BYTES: u64 = 64 << 30;
+
+/// Bytes a `width`×`height` render holds at its peak: sums, pass, film,
+/// image, PNG bytes and the EXR channels (3 means, 8 words of sums and counts).
 pub fn peak_bytes(width: u32, height: u32) -> u64 {
-    let per_pixel = 2 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3;
+    let per_pixel = 3 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3 + 11 * 4;
     width as u64 * height as u64 * per_pixel as u64
 }
 
@@ -95,20 +110,96 @@ impl Pixel {
     }
 }
 
+/// Which part of the film a render fills: a crop and a sample range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Part {
+    /// Pixels to render (the data window).
+    pub crop: Rect,
+    /// Sample indices to take in every pixel.
+    pub samples: SampleRange,
+}
+
+impl Part {
+    /// The whole frame of `scene` at `spp` samples per pixel.
+    pub fn whole(scene: &Scene, spp: u32) -> Part {
+        Part {
+            crop: Rect::full(scene.camera.width(), scene.camera.height()),
+            samples: SampleRange::new(0, spp),
+        }
+    }
+}
+
 /// Renders `scene`; stops early (keeping finished passes) once `cancel` is set.
 pub fn render(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
+    render_part(
+        scene,
+        options,
+        &Part::whole(scene, options.spp),
+        cancel,
+        None,
+    )
+}
+
+/// Called after every finished pass with the image so far (marked partial).
+pub type PassObserver<'a> = &'a mut (dyn FnMut(&Image) + Send);
+
+/// [`render`], showing the image so far to `on_pass` after every finished pass
+/// (live preview, checkpoints); the result does not depend on the observer.
+pub fn render_observed(
+    scene: &Scene,
+    options: &RenderOptions,
+    cancel: &AtomicBool,
+    on_pass: Option<PassObserver>,
+) -> RenderOutput {
+    render_part(
+        scene,
+        options,
+        &Part::whole(scene, options.spp),
+        cancel,
+        on_pass,
+    )
+}
+
+/// Renders sample indices `part.samples` of the pixels in `part.crop` only
+/// (`options.spp` is then the spp of the whole render the part belongs to),
+/// showing the image so far to `on_pass` after every finished pass.
+pub fn render_part(
+    scene: &Scene,
+    options: &RenderOptions,
+    part: &Part,
+    cancel: &AtomicBool,
+    on_pass: Option<PassObserver>,
+) -> RenderOutput {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads.unwrap_or(0))
         .build()
         .expect("thread pool");
-    pool.install(|| render_in_pool(scene, options, cancel))
+    let capped_before = crate::integrator::tracking::capped_rays();
+    let spp_total = options.spp;
+    let options = RenderOptions {
+        spp: part.samples.len(),
+        ..options.clone()
+    };
+    let timed = options.time_budget.is_some();
+    let mut out = pool.install(|| render_in_pool(scene, &options, part, cancel, on_pass));
+    // A timed render's size is what it reached; a piece belongs to a render of `spp_total`.
+    if !timed {
+        let provenance = &mut out.film.provenance;
+        provenance.spp_total = provenance.spp_total.max(spp_total);
+    }
+    out.capped_rays = crate::integrator::tracking::capped_rays() - capped_before;
+    out
 }
 
-fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -> RenderOutput {
-    let (w, h) = (
-        scene.camera.width() as usize,
-        scene.camera.height() as usize,
-    );
+fn render_in_pool(
+    scene: &Scene,
+    options: &RenderOptions,
+    part: &Part,
+    cancel: &AtomicBool,
+    mut on_pass: Option<PassObserver>,
+) -> RenderOutput {
+    let (w, h) = (part.crop.width() as usize, part.crop.height() as usize);
+    let (x0, y0, first) = (part.crop.x0, part.crop.y0, part.samples.start);
     let mut film = vec![Pixel::default(); w * h];
     let start = Instant::now();
     let pass_spp = pass_size(options);
@@ -116,9 +207,14 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
     let bar = progress_bar(options, bands);
     let mut spp_done = 0u32;
     let mut partial = false;
+    let mut tracking = TrackingStats::default();
     loop {
         let budget_left = match options.time_budget {
-            Some(t) => start.elapsed() < t && (!options.spp_is_cap || spp_done < options.spp),
+            // A time budget always gets its first pass: no render ends with 0 samples.
+            Some(t) => {
+                (spp_done == 0 || start.elapsed() < t)
+                    && (!options.spp_is_cap || spp_done < options.spp)
+            }
             None => spp_done < options.spp,
         };
         if !budget_left {
@@ -134,19 +230,32 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
         };
         let mut pass = vec![Pixel::default(); w * h];
         let bands_done = AtomicUsize::new(0);
-        pass.par_chunks_mut(w * BAND_ROWS)
+        let pass_stats = pass
+            .par_chunks_mut(w * BAND_ROWS)
             .enumerate()
-            .for_each(|(band, rows)| {
+            .map(|(band, rows)| {
                 if cancel.load(Ordering::Relaxed) {
-                    return;
+                    return TrackingStats::default();
                 }
+                // A band runs on one thread from start to end: its counts are the thread's.
+                take_thread_stats();
                 for (i, px) in rows.iter_mut().enumerate() {
                     let (x, y) = ((i % w) as u32, (band * BAND_ROWS + i / w) as u32);
-                    *px = render_pixel(scene, x, y, spp_done, count);
+                    match render_pixel(scene, x0 + x, y0 + y, first + spp_done, count, cancel) {
+                        Some(p) => *px = p,
+                        // Stopped: the band is not counted, so the pass is dropped.
+                        None => return TrackingStats::default(),
+                    }
                 }
                 bands_done.fetch_add(1, Ordering::Relaxed);
                 bar.inc(1);
+                take_thread_stats()
+            })
+            .reduce(TrackingStats::default, |mut a, b| {
+                a.merge(b);
+                a
             });
+        tracking.merge(pass_stats);
         // A pass cut short is dropped whole, so every pixel of the image has
         // exactly `spp_done` samples; a pass that finished is kept even if the
         // stop request came in just after its last band.
@@ -159,10 +268,20 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
         }
         spp_done += count;
         bar.set_message(format!("{spp_done} spp"));
+        if let Some(observe) = on_pass.as_mut() {
+            observe(&Image {
+                width: w,
+                height: h,
+                pixels: film.iter().map(Pixel::mean).collect(),
+                spp: spp_done,
+                partial: true,
+            });
+        }
     }
     bar.finish_and_clear();
     let nonfinite: u64 = film.iter().map(|p| p.nonfinite as u64).sum();
     let pixels = film.iter().map(Pixel::mean).collect();
+    let held = SampleRange::new(first, first + spp_done);
     RenderOutput {
         image: Image {
             width: w,
@@ -171,10 +290,37 @@ fn render_in_pool(scene: &Scene, options: &RenderOptions, cancel: &AtomicBool) -
             spp: spp_done,
             partial,
         },
+        film: to_film(scene, part, held, partial, &film),
         elapsed: start.elapsed(),
         nonfinite_samples: nonfinite,
         samples: spp_done as u64 * (w * h) as u64,
+        tracking,
+        capped_rays: 0,
     }
+}
+
+/// The film of `part` holding the sums in `pixels` (samples `held` of each pixel).
+fn to_film(scene: &Scene, part: &Part, held: SampleRange, partial: bool, pixels: &[Pixel]) -> Film {
+    let display = (scene.camera.width(), scene.camera.height());
+    // A timed render asks for what it reaches; only a stopped one falls short.
+    let requested = match partial {
+        true => SampleRange::new(part.samples.start, part.samples.end.max(held.end)),
+        false => held,
+    };
+    let provenance = Provenance {
+        seed: scene.settings.seed,
+        scene_hash: 0,
+        spp_total: requested.end,
+        requested: vec![requested],
+        held: if held.is_empty() { vec![] } else { vec![held] },
+    };
+    let mut film = Film::new(display, part.crop, provenance);
+    for (i, p) in pixels.iter().enumerate() {
+        film.counts[i] = p.count;
+        film.nonfinite[i] = p.nonfinite;
+        film.layers[0].sums[3 * i..3 * i + 3].copy_from_slice(&p.sum);
+    }
+    film
 }
 
 /// Samples per pass: all at once without a time budget (in chunks for progress), small passes with one.
@@ -207,23 +353,79 @@ fn progress_bar(options: &RenderOptions, bands: u64) -> ProgressBar {
     bar
 }
 
-/// Sums `count` samples of pixel (x, y) starting at sample index `first`.
-fn render_pixel(scene: &Scene, x: u32, y: u32, first: u32, count: u32) -> Pixel {
+/// Sums `count` samples of pixel (x, y) starting at sample index `first`;
+/// `None` once `cancel` is set (checked before every sample, so a stop
+/// request is seen within one sample's time whatever the scene).
+fn render_pixel(
+    scene: &Scene,
+    x: u32,
+    y: u32,
+    first: u32,
+    count: u32,
+    cancel: &AtomicBool,
+) -> Option<Pixel> {
     let mut px = Pixel::default();
     for s in first..first + count {
+        if cancel.load(Ordering::Relaxed) {
+            return None;
+        }
         px.add(pixel_sample(scene, x, y, s));
     }
-    px
+    Some(px)
 }
 
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
 pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
     let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
-    let mut ray = scene.camera.generate_ray(x, y, sampler.next_2d());
+    let mut ray = scene.camera.sample_ray(x, y, &mut sampler);
     if scene.settings.shutter.is_some() {
         ray.time = scene.settings.sample_time(sampler.time_1d());
     }
     li(scene, ray, &mut sampler)
+}
+
+/// Per-pixel means of `aovs` over samples `0..spp` (the beauty's camera rays,
+/// the AOV streams): one named channel per entry of each `Aov::channels`.
+pub fn render_aovs(
+    scene: &Scene,
+    aovs: &[Aov],
+    spp: u32,
+    threads: Option<usize>,
+) -> Vec<(String, Vec<f32>)> {
+    let (w, h) = (
+        scene.camera.width() as usize,
+        scene.camera.height() as usize,
+    );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .expect("thread pool");
+    let mut film = vec![AovPixel::default(); w * h];
+    pool.install(|| {
+        film.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+            for (x, px) in row.iter_mut().enumerate() {
+                for s in 0..spp {
+                    px.add(&aov_sample(scene, x as u32, y as u32, s));
+                }
+            }
+        })
+    });
+    let mut out = Vec::new();
+    let mut values = Vec::with_capacity(3);
+    for &aov in aovs {
+        let mut channels: Vec<Vec<f32>> = vec![Vec::with_capacity(w * h); aov.channels().len()];
+        for px in &film {
+            values.clear();
+            px.value(aov, &mut values);
+            for (c, v) in channels.iter_mut().zip(&values) {
+                c.push(*v);
+            }
+        }
+        for (name, data) in aov.channels().iter().zip(channels) {
+            out.push((name.to_string(), data));
+        }
+    }
+    out
 }
 
 #[cfg(test)]

@@ -4,11 +4,14 @@
 //!
 //! Each camera sample either reaches the target (value L0, probability
 //! T = e^(-σa·d)) or is absorbed on the way (value Le), so a target's mean over
-//! N samples has standard error |L0 - Le|·√(T(1-T)/N): the tolerances below
-//! are k = 4 of those (two-sided p ≈ 6e-5 each, 16 targets), and k = 4 of the
-//! fit's own standard error for σt.
+//! N samples has standard error |L0 - Le|·√(T(1-T)/N): the targets are one
+//! family of the shared `assert_within` (tests/common/stats.rs), and the fitted
+//! σt is compared within the fit's own standard error the same way.
+
+mod common;
 
 use brume::airlight::{koschmieder, run, AirlightMode, AirlightOptions};
+use common::assert_within;
 
 #[test]
 fn exact_airlight_measurements_follow_koschmieder() {
@@ -35,6 +38,7 @@ fn exact_airlight_measurements_follow_koschmieder() {
         "{}",
         report.table
     );
+    let checks = 2 * report.rows.len();
     for row in &report.rows {
         for (m, l0) in [(&row.bright, l0_bright), (&row.dark, l0_dark)] {
             assert!(
@@ -48,21 +52,20 @@ fn exact_airlight_measurements_follow_koschmieder() {
             let n = (m.pixels * spp as usize) as f64;
             let se = (l0 - le).abs() * (t * (1.0 - t) / n).sqrt();
             let got = m.mean.luminance() as f64;
-            assert!(
-                (got - want).abs() <= 4.0 * se + 1e-5,
-                "target at {} m (L0 = {l0}): {got} vs Koschmieder {want} ± {se}\n{}",
-                row.distance,
-                report.table
+            let what = format!(
+                "target at {} m (L0 = {l0}) vs Koschmieder\n{}",
+                row.distance, report.table
             );
+            assert_within(got, se, want, checks, &what);
         }
     }
     assert!(report.fit_rows >= 4, "{}", report.table);
-    assert!(
-        (report.sigma_t_fit - sigma).abs() <= 4.0 * report.sigma_t_fit_std_error,
-        "fitted σt {} ± {} vs true {sigma}\n{}",
+    assert_within(
         report.sigma_t_fit,
         report.sigma_t_fit_std_error,
-        report.table
+        sigma,
+        1,
+        &format!("fitted σt vs true\n{}", report.table),
     );
     for name in [
         "airlight.exr",
@@ -116,7 +119,9 @@ fn airlight_subcommand_runs() {
         .unwrap();
     assert!(output.status.success(), "{output:?}");
     assert!(String::from_utf8_lossy(&output.stdout).contains("sigma_t fitted"));
-    assert!(out.join("airlight_plot.png").is_file());
+    let plot = std::fs::File::open(out.join("airlight_plot.png")).unwrap();
+    let reader = png::Decoder::new(plot).read_info().unwrap();
+    assert_eq!((reader.info().width, reader.info().height), (900, 720));
     assert_cmd::Command::cargo_bin("brume")
         .unwrap()
         .args(["airlight", "--visibility", "-5", "--out"])
@@ -150,17 +155,19 @@ fn single_scattering_airlight_fits_the_true_extinction() {
         * (-sigma * SLAB_TOP as f64).exp();
     let horizon = report.horizon.mean.luminance() as f64;
     let horizon_se = report.horizon.std_error;
-    assert!(
-        (horizon - l_air).abs() <= 4.0 * horizon_se + 1e-4 * l_air,
-        "L_air {horizon} ± {horizon_se} vs {l_air}\n{}",
-        report.table
+    assert_within(
+        horizon,
+        horizon_se,
+        l_air,
+        1,
+        &format!("L_air\n{}", report.table),
     );
     assert!(report.fit_rows >= 4, "{}", report.table);
-    assert!(
-        (report.sigma_t_fit - sigma).abs() <= 4.0 * report.sigma_t_fit_std_error,
-        "fitted σt {} ± {} vs true {sigma}\n{}",
+    assert_within(
         report.sigma_t_fit,
         report.sigma_t_fit_std_error,
-        report.table
+        sigma,
+        1,
+        &format!("fitted σt vs true\n{}", report.table),
     );
 }

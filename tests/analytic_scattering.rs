@@ -185,7 +185,7 @@ fn sunlit_slab_multiple_scattering_adds_energy() {
     let single = slab.single_scattering();
     for (c, single) in single.into_iter().enumerate() {
         assert!(
-            est.mean[c] > single + K_SIGMA * est.std_error[c],
+            est.mean[c] > single + k_sigma(3) * est.std_error[c],
             "channel {c}: multiple {} ± {} vs single {single}",
             est.mean[c],
             est.std_error[c],

@@ -2,11 +2,13 @@
 //! exits with code 2 and one `error:` line naming the file and the culprit,
 //! never a panic, an abort or an out-of-memory kill.
 
+mod common;
+
 use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 
 fn small_vdb() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/volumes/homogeneous_box_tiles.vdb")
+    common::data::test_volume("homogeneous_box_tiles.vdb")
 }
 
 /// Runs `brume info` on `path`; returns (exit code, stderr).

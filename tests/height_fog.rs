@@ -133,16 +133,11 @@ fn tracked_transmittance_matches_closed_form() {
                 ));
             }
             let e = acc.estimate();
-            for c in 0..3 {
-                let tol = 4.5 * e.std_error[c] + 1e-6;
-                assert!(
-                    (e.mean[c] - want[c] as f64).abs() <= tol,
-                    "{name} {estimator:?} channel {c}: {} ± {} vs {}",
-                    e.mean[c],
-                    e.std_error[c],
-                    want[c]
-                );
-            }
+            assert_estimate(
+                &e,
+                [want[0] as f64, want[1] as f64, want[2] as f64],
+                &format!("{name} {estimator:?}"),
+            );
         }
     }
 }
@@ -191,10 +186,12 @@ fn free_flight_distances_follow_closed_form_cdf() {
         let escape = (-tau_t(t_max as f64)).exp();
         let expected = n as f64 * escape;
         let sd = (n as f64 * escape * (1.0 - escape)).sqrt();
-        assert!(
-            (result.invalid_count as f64 - expected).abs() <= 4.0 * sd + 1.0,
-            "{name}: {} escaped, expected {expected:.1} ± {sd:.1}",
-            result.invalid_count
+        assert_within(
+            result.invalid_count as f64,
+            sd,
+            expected,
+            1,
+            &format!("{name}: escaped count"),
         );
     }
 }
@@ -242,16 +239,7 @@ fn overlapping_fogs_add_under_spectral_tracking() {
             });
         }
         let e = acc.estimate();
-        for c in 0..3 {
-            let tol = 4.5 * e.std_error[c] + 1e-6;
-            assert!(
-                (e.mean[c] - want[c] as f64).abs() <= tol,
-                "{name} channel {c}: {} ± {} vs {}",
-                e.mean[c],
-                e.std_error[c],
-                want[c]
-            );
-        }
+        assert_estimate(&e, [want[0] as f64, want[1] as f64, want[2] as f64], name);
     }
 }
 
@@ -287,16 +275,9 @@ fn emission_absorption_radiance_through_height_fog() {
             .unwrap()
             .exp_neg();
         let e = estimate_ray(&scene, ray, 20_000, 3);
-        for c in 0..3 {
-            let want = bg[c] * t[c] as f64 + le[c] * (1.0 - t[c] as f64);
-            let tol = 4.5 * e.std_error[c] + 1e-5;
-            assert!(
-                (e.mean[c] - want).abs() <= tol,
-                "{name} channel {c}: {} ± {} vs {want}",
-                e.mean[c],
-                e.std_error[c]
-            );
-        }
+        let want: [f64; 3] =
+            std::array::from_fn(|c| bg[c] * t[c] as f64 + le[c] * (1.0 - t[c] as f64));
+        assert_estimate(&e, want, name);
     }
 }
 

@@ -18,7 +18,7 @@ use std::sync::Arc;
 /// The unit VDB box, centred on the origin, scaled by 1.6 and turned.
 fn vdb_box(fields: &str) -> String {
     format!(
-        "[[medium]]\ntype = \"vdb\"\nfile = \"../shared/volumes/homogeneous_box.vdb\"\n{fields}\ntransform = {{ translate = [-0.8, -0.8, -0.8], scale = 1.6, rotate = [15.0, 25.0, 0.0] }}\n"
+        "[[medium]]\ntype = \"vdb\"\nfile = \"tests/data/volumes/homogeneous_box.vdb\"\n{fields}\ntransform = {{ translate = [-0.8, -0.8, -0.8], scale = 1.6, rotate = [15.0, 25.0, 0.0] }}\n"
     )
 }
 
@@ -143,16 +143,10 @@ fn blackbody_emission_follows_documented_normalization() {
     scene.media = vec![Medium::Grid(Arc::new(medium))];
     let c = 15.5 / 32.0;
     let est = estimate_ray(&scene, Ray::new(Vec3::new(c, c, -2.0), Vec3::Z), 4096, 11);
-    for ch in 0..3 {
-        let want = le[ch] * (1.0 - (-sigma_t as f64).exp());
-        let tol = 5.0 * est.std_error[ch] + 2e-3 * want;
-        assert!(
-            (est.mean[ch] - want).abs() <= tol,
-            "pixel channel {ch}: {} ± {} vs {want}",
-            est.mean[ch],
-            est.std_error[ch]
-        );
-    }
+    // Le as the medium evaluates it (checked above against the Planck integral to 2e-3):
+    // the render itself must then match to its standard error
+    let want: [f64; 3] = std::array::from_fn(|ch| at[ch] as f64 * (1.0 - (-sigma_t as f64).exp()));
+    assert_estimate(&est, want, "blackbody pixel");
 }
 
 fn build_error(medium: &str) -> String {
@@ -170,12 +164,12 @@ fn build_error(medium: &str) -> String {
 /// Bad VDB entries fail with messages naming the scene file, the field, the VDB file and the grid.
 #[test]
 fn vdb_errors_name_file_grid_and_field() {
-    let e = build_error("file = \"../shared/volumes/nope.vdb\"");
+    let e = build_error("file = \"tests/data/volumes/nope.vdb\"");
     assert!(
         e.contains("test.toml") && e.contains("medium[0].file") && e.contains("nope.vdb"),
         "{e}"
     );
-    let e = build_error("file = \"../shared/volumes/smoke_plume.vdb\"\ngrid = \"dens\"");
+    let e = build_error("file = \"volumes/smoke_plume.vdb\"\ngrid = \"dens\"");
     assert!(
         e.contains("medium[0].grid") && e.contains("smoke_plume.vdb") && e.contains("'dens'"),
         "{e}"
@@ -184,20 +178,19 @@ fn vdb_errors_name_file_grid_and_field() {
         e.contains("density") && e.contains("temperature"),
         "lists the grids: {e}"
     );
-    let e =
-        build_error("file = \"../shared/volumes/smoke_plume.vdb\"\ntemperature_grid = \"heat\"");
+    let e = build_error("file = \"volumes/smoke_plume.vdb\"\ntemperature_grid = \"heat\"");
     assert!(
         e.contains("medium[0].temperature_grid") && e.contains("'heat'"),
         "{e}"
     );
-    let e = build_error("file = \"../shared/volumes/smoke_plume.vdb\"\nmajorant = \"tight\"");
+    let e = build_error("file = \"volumes/smoke_plume.vdb\"\nmajorant = \"tight\"");
     assert!(e.contains("medium[0].majorant"), "{e}");
-    let e = build_error("file = \"../shared/volumes/smoke_plume.vdb\"\ndensity_scale = -1.0");
+    let e = build_error("file = \"volumes/smoke_plume.vdb\"\ndensity_scale = -1.0");
     assert!(e.contains("medium[0].density_scale"), "{e}");
-    let e = build_error("file = \"../shared/volumes/smoke_plume.vdb\"\ndensity = 1.0");
+    let e = build_error("file = \"volumes/smoke_plume.vdb\"\ndensity = 1.0");
     assert!(e.contains("density"), "unknown key: {e}");
     let e = build_error(
-        "file = \"../shared/volumes/smoke_plume.vdb\"\nemission = 1.0\ntemperature_grid = \"temperature\"",
+        "file = \"volumes/smoke_plume.vdb\"\nemission = 1.0\ntemperature_grid = \"temperature\"",
     );
     assert!(e.contains("at most one"), "{e}");
 }
@@ -206,13 +199,13 @@ fn vdb_errors_name_file_grid_and_field() {
 #[test]
 fn smoke_plume_temperature_emission() {
     let scene = scene_from_str(
-        "[camera]\nposition = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n[[medium]]\ntype = \"vdb\"\nfile = \"../shared/volumes/smoke_plume.vdb\"\nalbedo = 0.5\ntemperature_grid = \"temperature\"\ntemperature_scale = 2000.0\nemission_scale = 0.5\n",
+        "[camera]\nposition = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n[[medium]]\ntype = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\nalbedo = 0.5\ntemperature_grid = \"temperature\"\ntemperature_scale = 2000.0\nemission_scale = 0.5\n",
     );
     let Medium::Grid(m) = &scene.media[0] else {
         panic!("a grid medium")
     };
     assert!(scene.media[0].is_emissive());
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/volumes/smoke_plume.vdb");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("volumes/smoke_plume.vdb");
     let temperature = brume::volume::load_float_grid(&path, "temperature").unwrap();
     let p = Vec3::new(0.86, 0.67, 0.85);
     let t = temperature.trilinear_world(p.as_dvec3()) as f64 * 2000.0;
@@ -235,7 +228,7 @@ fn smoke_scene_renders() {
     assert!(matches!(scene.media[0], Medium::Grid(_)));
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let mut sampler = brume::sampling::Sampler::new(0, w / 2, h / 2, 0);
-    let ray = scene.camera.generate_ray(w / 2, h / 2, sampler.next_2d());
+    let ray = scene.camera.sample_ray(w / 2, h / 2, &mut sampler);
     let est = estimate_ray(&scene, ray, 64, 5);
     assert!(
         est.mean.iter().all(|v| v.is_finite() && *v > 0.0),

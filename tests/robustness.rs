@@ -222,29 +222,46 @@ fn a_write_failure_after_rendering_exits_1_and_keeps_the_other_output() {
     assert!(temporaries(dir.path()).is_empty());
 }
 
-#[test]
-fn an_image_too_large_for_memory_is_refused_not_aborted() {
+/// Renders `resolution` of the slow scene at 1 spp; returns (exit code, stderr, whether an EXR appeared).
+fn render_at(resolution: [u32; 2]) -> (Option<i32>, String, bool) {
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(slow_scene(dir.path())).unwrap();
     let huge = dir.path().join("huge.toml");
-    std::fs::write(&huge, text.replace("[96, 64]", "[32768, 32768]")).unwrap();
-    let bytes = brume::render::peak_bytes(32768, 32768) as usize;
-    if Vec::<u8>::new().try_reserve_exact(bytes).is_ok() {
-        eprintln!("this machine can reserve {bytes} bytes: nothing to refuse");
-        return;
-    }
+    let res = format!("[{}, {}]", resolution[0], resolution[1]);
+    std::fs::write(&huge, text.replace("[96, 64]", &res)).unwrap();
     let output = brume()
         .current_dir(dir.path())
         .args(["render", "--quiet", "--spp", "1", "huge.toml"])
         .output()
         .unwrap();
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.contains("huge.toml: camera.resolution: a 32768x32768 image needs"),
-        "{stderr}"
-    );
-    assert!(!dir.path().join("huge.exr").exists());
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    (
+        output.status.code(),
+        stderr,
+        dir.path().join("huge.exr").exists(),
+    )
+}
+
+#[test]
+fn an_image_over_the_memory_limit_is_refused_on_every_machine() {
+    use brume::render::{peak_bytes, MAX_PEAK_BYTES};
+    // the smallest square image over the limit, and one just under it
+    let over = (1..).find(|&s| peak_bytes(s, s) > MAX_PEAK_BYTES).unwrap();
+    assert!(peak_bytes(over - 1, over - 1) <= MAX_PEAK_BYTES);
+    for res in [[over, over], [32768, 32768]] {
+        let (code, stderr, exr) = render_at(res);
+        assert_eq!(code, Some(2), "{res:?}: {stderr}");
+        let needs = format!(
+            "huge.toml: camera.resolution: a {}x{} image needs {:.1} GB of memory, more than brume's limit of {:.1} GB",
+            res[0],
+            res[1],
+            peak_bytes(res[0], res[1]) as f64 / 1e9,
+            MAX_PEAK_BYTES as f64 / 1e9
+        );
+        assert!(stderr.contains(&needs), "{res:?}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+        assert!(!exr, "{res:?}: an image was written");
+    }
 }
 
 #[test]

@@ -1,33 +1,32 @@
-//! Every shared VDB file read by brume agrees with what C++ OpenVDB computed
+//! Every committed VDB file read by brume agrees with what C++ OpenVDB computed
 //! (the JSON sidecars): counts, value range, sum, bounds, transforms, voxel
-//! probes and nearest/trilinear samples at world points.
+//! probes and nearest/trilinear samples at world points. The third-party
+//! files are checked too when `BRUME_REAL_VOLUMES` names their folder.
+
+mod common;
 
 use std::path::{Path, PathBuf};
+
+use common::data::{
+    read_text, real_volumes, shipped_volume, shipped_volumes_dir, test_volume, test_volumes_dir,
+    vdb_files_with_sidecars,
+};
 
 use brume::volume::{info_report, load_float_grid, FloatGrid, VdbFile, VolumeError};
 use glam::{DVec3, IVec3};
 use serde_json::Value;
 
-fn volumes() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/volumes")
-}
-
-/// Every `.vdb` with a sidecar in a folder of the shared volumes.
-fn files_in(sub: &str) -> Vec<PathBuf> {
-    let dir = volumes().join(sub);
-    let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "vdb"))
-        .filter(|p| p.with_extension("vdb.json").exists())
-        .collect();
-    out.sort();
-    out
+/// Every committed `.vdb` with a sidecar: the test volumes and the shipped ones.
+fn committed_files() -> Vec<PathBuf> {
+    let mut files = vdb_files_with_sidecars(&test_volumes_dir());
+    files.extend(vdb_files_with_sidecars(&shipped_volumes_dir()));
+    files
 }
 
 fn sidecar(vdb: &Path) -> Value {
-    let text = std::fs::read_to_string(vdb.with_extension("vdb.json")).unwrap();
-    serde_json::from_str(&text).unwrap()
+    let path = vdb.with_extension("vdb.json");
+    serde_json::from_str(&read_text(&path))
+        .unwrap_or_else(|e| panic!("{}: not JSON: {e}", path.display()))
 }
 
 fn ivec(v: &Value) -> IVec3 {
@@ -193,34 +192,70 @@ fn assert_files(files: &[PathBuf]) {
 }
 
 #[test]
-fn shared_volumes_match_openvdb() {
-    assert_files(&files_in(""));
-}
-
-#[test]
-fn extra_volumes_match_openvdb() {
-    assert_files(&files_in("extra"));
+fn committed_volumes_match_openvdb() {
+    let files = committed_files();
+    // 13 test volumes and the 2 shipped ones
+    assert!(files.len() >= 15, "{files:?}");
+    assert_files(&files);
 }
 
 #[test]
 fn real_houdini_files_match_openvdb() {
-    assert_files(&files_in("real"));
-}
-
-#[test]
-fn rotated_affine_maps_match_openvdb() {
-    let files = [
-        volumes().join("extra/cloud_transformed.vdb"),
-        volumes().join("real/dragon_with_xform.vdb"),
-    ];
-    assert_files(&files);
-    let grid = load_float_grid(&files[0], "density").unwrap();
+    let Some(dir) = real_volumes("real_houdini_files_match_openvdb") else {
+        return;
+    };
+    assert_files(&vdb_files_with_sidecars(&dir));
+    let rotated = dir.join("dragon_with_xform.vdb");
+    assert_files(std::slice::from_ref(&rotated));
+    let grid = load_float_grid(&rotated, "density").unwrap();
     assert_eq!(grid.transform().map_type(), "AffineMap");
 }
 
 #[test]
+fn rotated_affine_maps_match_openvdb() {
+    let file = test_volume("cloud_transformed.vdb");
+    assert_files(std::slice::from_ref(&file));
+    let grid = load_float_grid(&file, "density").unwrap();
+    assert_eq!(grid.transform().map_type(), "AffineMap");
+}
+
+#[test]
+fn every_compression_and_half_variant_is_covered() {
+    // each kind of file the reader must handle is committed, so a fresh clone tests it
+    let mut kinds = std::collections::BTreeSet::new();
+    for f in committed_files() {
+        let side = sidecar(&f);
+        for g in side["file_header"]["grids"].as_array().unwrap() {
+            let half = g["is_saved_as_half_float"].as_bool().unwrap();
+            kinds.insert((g["compression_flags"].as_u64().unwrap(), half));
+        }
+        for g in side["grids"].as_array().unwrap() {
+            if g["active_tile_count"].as_u64().unwrap() > 0 {
+                kinds.insert((99, false));
+            }
+        }
+    }
+    // compression flags: ZIP = 1, ACTIVE_MASK = 2, BLOSC = 4; 99 marks "has tiles"
+    for want in [
+        (0, false),
+        (2, false),
+        (3, false),
+        (6, false),
+        (0, true),
+        (3, true),
+        (6, true),
+        (99, false),
+    ] {
+        assert!(
+            kinds.contains(&want),
+            "no committed file of kind {want:?}: {kinds:?}"
+        );
+    }
+}
+
+#[test]
 fn non_uniform_scale_translate_matches_openvdb() {
-    let file = volumes().join("extra/cloud_anisotropic.vdb");
+    let file = test_volume("cloud_anisotropic.vdb");
     assert_files(std::slice::from_ref(&file));
     let vs = load_float_grid(&file, "density")
         .unwrap()
@@ -239,16 +274,13 @@ fn half_float_grids_read_exactly_with_every_compression() {
         "smoke_plume_half_zip.vdb",
         "smoke_plume_half_none.vdb",
     ];
-    let files: Vec<PathBuf> = names
-        .iter()
-        .flat_map(|n| [volumes().join(n), volumes().join("extra").join(n)])
-        .collect();
+    let files: Vec<PathBuf> = names.iter().map(|n| test_volume(n)).collect();
     assert_files(&files);
 }
 
 #[test]
 fn tile_only_grid_reads_its_tiles() {
-    let grid = load_float_grid(&volumes().join("homogeneous_box_tiles.vdb"), "density").unwrap();
+    let grid = load_float_grid(&test_volume("homogeneous_box_tiles.vdb"), "density").unwrap();
     assert_eq!(grid.leaf_count(), 0);
     assert_eq!(grid.active_tile_count(), 64);
     assert_eq!(grid.active_voxel_count(), 32768);
@@ -260,18 +292,8 @@ fn tile_only_grid_reads_its_tiles() {
 }
 
 #[test]
-fn benchmark_volume_matches_its_readme() {
-    let grid = load_float_grid(&volumes().join("bench/smoke_96.vdb"), "density").unwrap();
-    assert_eq!(grid.active_voxel_count(), 97_331);
-    assert_eq!(grid.active_tile_count(), 21);
-    assert_eq!(grid.leaf_count(), 307);
-    let (lo, hi) = grid.value_range();
-    assert!(lo >= 0.0 && hi <= 1.0);
-}
-
-#[test]
 fn blocks_cover_every_leaf_and_bound_its_values() {
-    let grid = load_float_grid(&volumes().join("smoke_plume.vdb"), "density").unwrap();
+    let grid = load_float_grid(&shipped_volume("smoke_plume.vdb"), "density").unwrap();
     let blocks: Vec<_> = grid.blocks().collect();
     assert_eq!(blocks.len(), grid.leaf_count() + grid.active_tile_count());
     for b in &blocks {
@@ -288,7 +310,7 @@ fn blocks_cover_every_leaf_and_bound_its_values() {
 
 #[test]
 fn sparse_storage_is_small_per_active_voxel() {
-    let grid = load_float_grid(&volumes().join("smoke_plume.vdb"), "density").unwrap();
+    let grid = load_float_grid(&shipped_volume("smoke_plume.vdb"), "density").unwrap();
     let per_voxel = grid.memory_bytes() as f64 / grid.active_voxel_count() as f64;
     // 451 leaves of 2 KiB for 147k active voxels; a dense 96^3 array would be 24 bytes/voxel
     assert!(per_voxel < 8.0, "{per_voxel} bytes per active voxel");
@@ -296,7 +318,7 @@ fn sparse_storage_is_small_per_active_voxel() {
 
 #[test]
 fn missing_grid_lists_the_available_ones() {
-    let path = volumes().join("smoke_plume.vdb");
+    let path = shipped_volume("smoke_plume.vdb");
     let err = load_float_grid(&path, "flame").unwrap_err();
     let msg = err.to_string();
     assert!(matches!(err, VolumeError::GridNotFound { .. }));
@@ -311,13 +333,13 @@ fn missing_grid_lists_the_available_ones() {
 
 #[test]
 fn missing_file_is_an_error_naming_it() {
-    let err = VdbFile::open(&volumes().join("no_such_file.vdb")).unwrap_err();
+    let err = VdbFile::open(&test_volumes_dir().join("no_such_file.vdb")).unwrap_err();
     assert!(err.to_string().contains("no_such_file.vdb"), "{err}");
 }
 
 #[test]
 fn largest_file_loads_quickly() {
-    let path = volumes().join("smoke_plume_none.vdb");
+    let path = test_volume("smoke_plume_none.vdb");
     let start = std::time::Instant::now();
     let file = VdbFile::open(&path).unwrap();
     for name in file.grid_names() {
@@ -330,7 +352,7 @@ fn largest_file_loads_quickly() {
 
 #[test]
 fn info_report_lists_grids_with_plain_counts() {
-    let path = volumes().join("smoke_plume.vdb");
+    let path = shipped_volume("smoke_plume.vdb");
     let text = info_report(&path, false).unwrap();
     assert!(text.contains("active voxels: 147323"), "{text}");
     assert!(text.contains("active voxels: 67321"), "{text}");
@@ -398,12 +420,12 @@ fn every_active_voxel_agrees_with_vdb_rs_where_it_reads_correctly() {
             || n.contains("transformed")
             || n.contains("xform")
     };
-    let files: Vec<PathBuf> = ["", "extra", "real"]
-        .iter()
-        .flat_map(|d| files_in(d))
-        .filter(|p| !skip(p))
-        .collect();
-    assert!(files.len() >= 20);
+    let mut all = committed_files();
+    if let Some(dir) = real_volumes("every_active_voxel_agrees_with_vdb_rs (third-party part)") {
+        all.extend(vdb_files_with_sidecars(&dir));
+    }
+    let files: Vec<PathBuf> = all.into_iter().filter(|p| !skip(p)).collect();
+    assert!(files.len() >= 12, "{files:?}");
     let bad: Vec<String> = files
         .iter()
         .flat_map(|p| cross_check_with_vdb_rs(p))

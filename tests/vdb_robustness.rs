@@ -1,27 +1,25 @@
 //! Damaged VDB files give `Err(VolumeError)` with a message naming the file,
-//! never a panic or an abort: truncated copies of every shared file, random
-//! bytes, flipped bytes, and headers and nodes that claim huge sizes.
+//! never a panic or an abort: truncated copies of every committed file (and of
+//! the third-party ones when `BRUME_REAL_VOLUMES` is set), random bytes,
+//! flipped bytes, and headers and nodes that claim huge sizes.
+
+mod common;
 
 use std::path::{Path, PathBuf};
 
 use brume::volume::{info_report, VdbFile};
+use common::data::{
+    read_bytes, read_text, real_volumes, shipped_volume, shipped_volumes_dir, test_volume,
+    test_volumes_dir, vdb_files,
+};
 
-fn volumes() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/volumes")
-}
-
-/// Every shared `.vdb` file.
-fn all_files() -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    for sub in ["", "extra", "real", "bench"] {
-        for e in std::fs::read_dir(volumes().join(sub)).unwrap() {
-            let p = e.unwrap().path();
-            if p.extension().is_some_and(|x| x == "vdb") {
-                out.push(p);
-            }
-        }
+/// Every committed `.vdb` file, plus the third-party ones if their folder is set.
+fn all_files(test: &str) -> Vec<PathBuf> {
+    let mut out = vdb_files(&test_volumes_dir());
+    out.extend(vdb_files(&shipped_volumes_dir()));
+    if let Some(dir) = real_volumes(&format!("{test} (third-party part)")) {
+        out.extend(vdb_files(&dir));
     }
-    out.sort();
     out
 }
 
@@ -64,13 +62,13 @@ fn expect_error(name: &str, data: Vec<u8>, what: &str) {
 
 fn read(path: &Path) -> (String, Vec<u8>) {
     let name = path.file_name().unwrap().to_string_lossy().to_string();
-    (name, std::fs::read(path).unwrap())
+    (name, read_bytes(path))
 }
 
 #[test]
 fn every_prefix_of_small_files_is_an_error() {
     for file in ["homogeneous_box_tiles.vdb", "homogeneous_box.vdb"] {
-        let (name, data) = read(&volumes().join(file));
+        let (name, data) = read(&test_volume(file));
         assert!(load_all(&name, data.clone()).is_ok());
         for len in 0..data.len() {
             expect_error(&name, data[..len].to_vec(), &format!("prefix {len}"));
@@ -81,7 +79,7 @@ fn every_prefix_of_small_files_is_an_error() {
 #[test]
 fn truncated_copies_of_every_file_are_errors() {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
-    for path in all_files() {
+    for path in all_files("truncated_copies_of_every_file_are_errors") {
         let (name, data) = read(&path);
         let n = data.len();
         // the whole header and grid list, then a sample across the data
@@ -98,7 +96,7 @@ fn truncated_copies_of_every_file_are_errors() {
 #[test]
 fn random_bytes_are_errors() {
     let mut rng = Rng(42);
-    let (_, real) = read(&volumes().join("smoke_plume.vdb"));
+    let (_, real) = read(&shipped_volume("smoke_plume.vdb"));
     for i in 0..300 {
         let len = rng.below(4096);
         let mut data: Vec<u8> = (0..len).map(|_| rng.next() as u8).collect();
@@ -114,7 +112,7 @@ fn random_bytes_are_errors() {
 #[test]
 fn flipped_bytes_never_panic() {
     let mut rng = Rng(7);
-    for path in all_files() {
+    for path in all_files("flipped_bytes_never_panic") {
         let (name, data) = read(&path);
         for _ in 0..150 {
             let mut copy = data.clone();
@@ -142,7 +140,7 @@ fn find(data: &[u8], needle: &[u8]) -> usize {
 
 #[test]
 fn huge_claimed_sizes_are_errors() {
-    let (name, data) = read(&volumes().join("homogeneous_box_tiles.vdb"));
+    let (name, data) = read(&test_volume("homogeneous_box_tiles.vdb"));
     // header: magic 8, version 4, library 8, offsets flag 1, uuid 36, then metadata count
     let mut d = data.clone();
     put(&mut d, 57, &u32::MAX.to_le_bytes());
@@ -166,11 +164,10 @@ fn huge_claimed_sizes_are_errors() {
 
 #[test]
 fn huge_compressed_chunk_sizes_are_errors() {
-    let path = volumes().join("smoke_plume.vdb");
+    let path = shipped_volume("smoke_plume.vdb");
     let (name, data) = read(&path);
     let side: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(path.with_extension("vdb.json")).unwrap())
-            .unwrap();
+        serde_json::from_str(&read_text(&path.with_extension("vdb.json"))).unwrap();
     let grids = side["file_header"]["grids"].as_array().unwrap();
     let block_pos = grids[0]["block_pos"].as_u64().unwrap() as usize;
     // first leaf buffer: value mask (64 bytes), compression byte, then the chunk size
@@ -190,7 +187,7 @@ fn huge_compressed_chunk_sizes_are_errors() {
 
 #[test]
 fn unsupported_value_type_names_grid_and_type_and_other_grids_load() {
-    let (name, mut data) = read(&volumes().join("smoke_plume.vdb"));
+    let (name, mut data) = read(&shipped_volume("smoke_plume.vdb"));
     // turn the second grid ('temperature') into an int32 grid: same length type name
     let first = find(&data, b"Tree_float_5_4_3");
     let second = first + 16 + find(&data[first + 16..], b"Tree_float_5_4_3");

@@ -335,7 +335,11 @@ pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
         let png = dir.join("airlight.png");
         image_io::write_png(&png, &out.image, 0.0)?;
         let plot_path = dir.join("airlight_plot.png");
-        image_io::write_png(&plot_path, &plot::draw(&report), 0.0)?;
+        let pixels = plot::draw(&report).map_err(|message| Error::Output {
+            path: plot_path.clone(),
+            message,
+        })?;
+        image_io::write_png_srgb8(&plot_path, plot::WIDTH, plot::HEIGHT, &pixels)?;
         report.files = vec![
             exr,
             png,

@@ -4,7 +4,8 @@ use super::equiangular::{free_flight_weight, Segment};
 use super::Scene;
 use crate::color::Rgb;
 use crate::geometry::SurfaceHit;
-use crate::material::Material;
+use crate::light::LightSample;
+use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::PhaseFunction;
 use crate::sampling::{power_heuristic, Sampler};
@@ -14,8 +15,8 @@ pub(super) enum Vertex<'a> {
     /// A surface point with its BSDF.
     Surface {
         hit: &'a SurfaceHit,
-        /// Shading normal on the side of `wo`.
-        normal: Vec3,
+        /// Shading frame on the side of `wo`.
+        shading: Shading,
         wo: Vec3,
         material: &'a Material,
     },
@@ -31,7 +32,7 @@ pub(super) enum Vertex<'a> {
 }
 
 impl Vertex<'_> {
-    /// Where shadow rays toward `wi` start.
+    /// Where shadow rays toward `wi` start: off the surface on the side of `wi`.
     fn shadow_origin(&self, wi: Vec3) -> Vec3 {
         match self {
             Vertex::Surface { hit, .. } => offset_origin(hit.p, hit.geometric_normal, wi),
@@ -39,7 +40,7 @@ impl Vertex<'_> {
         }
     }
 
-    /// The point itself.
+    /// The point itself, where lights are sampled from.
     fn position(&self) -> Vec3 {
         match self {
             Vertex::Surface { hit, .. } => hit.p,
@@ -51,13 +52,13 @@ impl Vertex<'_> {
     fn scattering(&self, wi: Vec3) -> (Rgb, f32) {
         match self {
             Vertex::Surface {
-                normal,
+                shading,
                 wo,
                 material,
                 ..
             } => (
-                material.eval(*normal, *wo, wi),
-                material.pdf(*normal, *wo, wi),
+                material.eval(shading, *wo, wi),
+                material.pdf(shading, *wo, wi),
             ),
             Vertex::Medium { dir_in, phase, .. } => {
                 let p = phase.eval(*dir_in, wi);
@@ -67,16 +68,34 @@ impl Vertex<'_> {
     }
 }
 
+/// The shadow ray from `origin` (the receiver `p` nudged off its surface) to the light sample.
+///
+/// Direction and length are those of the chord from `origin` to the sampled
+/// light point itself, stopped just short of it: the chord from a point
+/// outside a convex light to a point of it that the point sees never enters
+/// the light. (Keeping the direction from `p` and only moving the start would
+/// run the ray parallel to that chord, into the light near its silhouette.)
+fn shadow_ray(origin: Vec3, p: Vec3, ls: &LightSample) -> (Ray, f32) {
+    if !ls.distance.is_finite() {
+        return (Ray::new(origin, ls.wi), f32::INFINITY);
+    }
+    let chord = p + ls.wi * ls.distance - origin;
+    let length = chord.length();
+    if length == 0.0 {
+        return (Ray::new(origin, ls.wi), 0.0);
+    }
+    (Ray::new(origin, chord / length), length * (1.0 - 1e-4))
+}
+
 /// Next-event estimation from `vertex` to one light chosen uniformly, at the path's `time`.
 ///
-/// Shadow rays carry the media's transmittance. With `full_weight` the sample
-/// is not MIS-weighted (no BSDF/phase strategy follows it).
+/// Shadow rays carry the media's transmittance. The sample is MIS-weighted
+/// against the BSDF/phase sampling that every vertex also does.
 pub(super) fn direct_light(
     scene: &Scene,
     vertex: &Vertex,
     time: f32,
     sampler: &mut Sampler,
-    full_weight: bool,
 ) -> Rgb {
     if scene.lights.is_empty() {
         return Rgb::BLACK;
@@ -85,23 +104,16 @@ pub(super) fn direct_light(
     let u = sampler.next_2d();
     let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
     let light = &scene.lights[index];
-    let Some(ls) = light.sample(vertex.position(), u, &scene.geometry) else {
+    let p = vertex.position();
+    let Some(ls) = light.sample(p, u, &scene.geometry) else {
         return Rgb::BLACK;
     };
     let (f, scatter_pdf) = vertex.scattering(ls.wi);
     if f.is_black() {
         return Rgb::BLACK;
     }
-    let origin = vertex.shadow_origin(ls.wi);
-    let shadow = Ray {
-        time,
-        ..Ray::new(origin, ls.wi)
-    };
-    let t_max = if ls.distance.is_finite() {
-        (ls.distance - (origin - vertex.position()).length()) * (1.0 - 1e-4)
-    } else {
-        f32::INFINITY
-    };
+    let (mut shadow, t_max) = shadow_ray(vertex.shadow_origin(ls.wi), p, &ls);
+    shadow.time = time;
     if scene.geometry.occluded(&shadow, t_max) {
         return Rgb::BLACK;
     }
@@ -120,7 +132,7 @@ pub(super) fn direct_light(
             equiangular: Some((segment, t)),
             ..
         } if light.point_position().is_some() => free_flight_weight(scene, segment, index, *t),
-        _ if ls.is_delta || full_weight => 1.0,
+        _ if ls.is_delta => 1.0,
         _ => power_heuristic(light_pdf, scatter_pdf),
     };
     f * tr * ls.radiance * (weight / light_pdf)

@@ -9,8 +9,15 @@
 //! Weights need only sum to one at every t, so the free-flight density in
 //! them may be the closed-form σt·T of the media; that is why this
 //! strategy is used only when every medium on the ray has a closed-form
-//! optical depth (homogeneous media). Outside `[t0, t1]` the equiangular
-//! density is zero and free flight keeps full weight.
+//! optical depth (homogeneous media and height fog). Outside `[t0, t1]` the
+//! equiangular density is zero and free flight keeps full weight.
+//!
+//! The interval is where the strategy matters, in the scene's own units so
+//! that the image does not depend on them: it ends where the transmittance
+//! from the ray origin has fallen below e^−`TAU_CUT` in every channel, and
+//! at most `FAR` times the farthest point light's distance from the origin
+//! (past that the lights subtend under 1/`FAR` rad of the ray). Unbounded
+//! segments (global media, height fog) are thus covered where they light up.
 
 use super::Scene;
 use crate::color::Rgb;
@@ -18,8 +25,14 @@ use crate::math::{Ray, Vec3};
 use crate::sampling::equiangular::{equiangular_pdf, sample_equiangular};
 use crate::sampling::Sampler;
 
-/// Longest stretch of an unbounded ray that equiangular sampling covers.
-const MAX_SPAN: f32 = 1.0e6;
+/// Optical depth past which the rest of a ray is left to free flight alone.
+const TAU_CUT: f32 = 20.0;
+
+/// How far past the farthest point light (in multiples of its distance) the interval may reach.
+const FAR: f32 = 1.0e3;
+
+/// Halvings the transmittance cut may try (a range of 2^40 in length).
+const MAX_HALVINGS: u32 = 40;
 
 /// The part of a ray segment where media are, for equiangular sampling.
 #[derive(Clone, Copy, Debug)]
@@ -39,11 +52,11 @@ pub(super) fn segment(scene: &Scene, ray: &Ray, t_surface: f32) -> Option<Segmen
     if !scene.settings.equiangular {
         return None;
     }
-    let point_lights = scene
-        .lights
-        .iter()
-        .filter(|l| l.point_position().is_some())
-        .count();
+    let (mut point_lights, mut farthest) = (0, 0.0f32);
+    for position in scene.lights.iter().filter_map(|l| l.point_position()) {
+        point_lights += 1;
+        farthest = farthest.max((position - ray.origin).length());
+    }
     if point_lights == 0 {
         return None;
     }
@@ -58,13 +71,41 @@ pub(super) fn segment(scene: &Scene, ray: &Ray, t_surface: f32) -> Option<Segmen
         let last = segments.last().unwrap_or(first);
         t1 = t1.max(last.t1);
     }
-    t1 = t1.min(t0 + MAX_SPAN);
+    t1 = t1.min(farthest * (1.0 + FAR));
+    t1 = transmittance_cut(scene, ray, t0, t1);
     (t0 < t1).then_some(Segment {
         ray: *ray,
         t0,
         t1,
         point_lights,
     })
+}
+
+/// The end of `[t0, t1]` after which the transmittance from the ray origin is below e^−`TAU_CUT`.
+///
+/// Only roughly: halving the stretch until the optical depth at its end falls
+/// below the cut, then keeping the last length above it (at most twice the
+/// needed one). Any end is unbiased; this one keeps samples where light arrives.
+fn transmittance_cut(scene: &Scene, ray: &Ray, t0: f32, t1: f32) -> f32 {
+    if t0 >= t1 || t0.is_nan() || t1.is_nan() {
+        return t1;
+    }
+    let tau = |t: f32| -> f32 {
+        let depth = scene.media.iter().fold(Rgb::BLACK, |sum, m| {
+            sum + m.optical_depth(ray, 0.0, t).unwrap_or(Rgb::BLACK)
+        });
+        depth.min_channel()
+    };
+    let mut end = t1;
+    for _ in 0..MAX_HALVINGS {
+        let half = t0 + 0.5 * (end - t0);
+        if half <= t0 || tau(half) < TAU_CUT {
+            break;
+        }
+        end = half;
+    }
+    // `end` is the last length whose optical depth reached the cut (or `t1` if none did).
+    end
 }
 
 /// What the media contribute at parameter `t` of a segment's ray (closed forms).

@@ -6,15 +6,16 @@
 //! Both kinds of vertex do next-event estimation with transmittance-weighted
 //! shadow rays, combined by MIS with phase/BSDF sampling.
 
+pub mod aov;
 mod direct;
 mod equiangular;
 pub mod tracking;
 
 use crate::camera::Camera;
 use crate::color::Rgb;
-use crate::geometry::Geometry;
+use crate::geometry::{Geometry, SurfaceHit};
 use crate::light::Light;
-use crate::material::Material;
+use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
 use crate::sampling::{power_heuristic, Sampler};
@@ -71,6 +72,8 @@ pub struct Scene {
     pub media: Vec<Medium>,
     /// Sampling settings.
     pub settings: Settings,
+    /// AOVs to write beside the beauty (`[film] aovs`).
+    pub aovs: Vec<aov::Aov>,
 }
 
 impl Scene {
@@ -119,6 +122,8 @@ impl Scene {
 
 /// State of one path being traced.
 struct PathState {
+    /// The ray of the current segment.
+    ray: Ray,
     throughput: Rgb,
     radiance: Rgb,
     /// Solid-angle pdf of the direction that produced the current ray.
@@ -127,135 +132,201 @@ struct PathState {
     prev_delta: bool,
     /// Where the current ray started (for area-light MIS).
     prev_point: Vec3,
+    /// Scattering events so far (surface and medium).
+    depth: u32,
+    /// Medium scattering events so far.
+    scatter_depth: u32,
+    /// The current ray leaves the last scattering event the depth limits allow:
+    /// it only gathers the emission it meets (surfaces, media, lights at
+    /// infinity), MIS-weighted against that vertex's light sampling, then stops.
+    emission_only: bool,
+}
+
+/// Whether a path goes on after a step.
+enum Step {
+    Continue,
+    Stop,
 }
 
 /// Estimates the radiance arriving at the ray origin along `-ray.direction`.
-pub fn li(scene: &Scene, mut ray: Ray, sampler: &mut Sampler) -> Rgb {
-    let settings = &scene.settings;
+///
+/// Every scattering vertex, the last one included, samples a light (NEE) and
+/// a continuation direction, combined by MIS; after the last vertex the
+/// continuation segment is traced for emission only. So `max_depth = 1` is
+/// exactly direct lighting, including light that NEE cannot sample (delta
+/// BSDFs, emissive media).
+pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Rgb {
     let mut path = PathState {
+        ray,
         throughput: Rgb::WHITE,
         radiance: Rgb::BLACK,
         prev_pdf: 1.0,
         prev_delta: true,
         prev_point: ray.origin,
+        depth: 0,
+        scatter_depth: 0,
+        emission_only: scene.settings.max_depth == 0 || scene.settings.max_scatter_depth == 0,
     };
-    let mut depth = 0u32;
-    let mut scatter_depth = 0u32;
-    loop {
-        let hit = scene.geometry.intersect(&ray, f32::INFINITY);
+    while let Step::Continue = trace_segment(scene, &mut path, sampler) {}
+    path.radiance
+}
+
+/// Follows the path's current ray to its next vertex, adding what it gathers on the way.
+fn trace_segment(scene: &Scene, path: &mut PathState, sampler: &mut Sampler) -> Step {
+    let hit = scene.geometry.intersect(&path.ray, f32::INFINITY);
+    if !scene.media.is_empty() {
         let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
-        if !scene.media.is_empty() {
-            let segment = if depth < settings.max_depth {
-                equiangular::segment(scene, &ray, t_surface)
-            } else {
-                None
-            };
-            if let Some(segment) = &segment {
-                path.radiance += path.throughput * equiangular::estimate(scene, segment, sampler);
-            }
-            let event = sample_free_flight(
-                &scene.media,
-                &ray,
-                t_surface,
-                &mut path.throughput,
-                &mut path.radiance,
-                sampler,
-            );
-            match event {
-                FreeFlight::Absorbed => break,
-                FreeFlight::Passed => {}
-                FreeFlight::Scatter { t, properties, .. } => {
-                    if depth >= settings.max_depth {
-                        break;
-                    }
-                    let p = ray.at(t);
-                    scatter_depth += 1;
-                    let last_vertex = depth + 1 >= settings.max_depth
-                        || scatter_depth >= settings.max_scatter_depth;
-                    let vertex = Vertex::Medium {
-                        p,
-                        dir_in: ray.direction,
-                        phase: &properties.phase,
-                        equiangular: segment.as_ref().map(|s| (s, t)),
-                    };
-                    path.radiance += path.throughput
-                        * direct_light(scene, &vertex, ray.time, sampler, last_vertex);
-                    if last_vertex {
-                        break;
-                    }
-                    let Some(ps) = properties.phase.sample(ray.direction, sampler.next_2d()) else {
-                        break;
-                    };
-                    path.throughput *= ps.weight;
-                    path.prev_pdf = ps.pdf;
-                    path.prev_delta = false;
-                    path.prev_point = p;
-                    ray = ray.spawn(p, ps.direction);
-                    depth += 1;
-                    if !russian_roulette(&mut path.throughput, depth, settings.rr_depth, sampler) {
-                        break;
-                    }
-                    continue;
-                }
-            }
-        }
-        let Some(hit) = hit else {
-            path.radiance +=
-                path.throughput * scene.escaped(ray.direction, path.prev_pdf, path.prev_delta);
-            break;
-        };
-        let wo = -ray.direction;
-        if let Some(light_index) = scene.shape_lights[hit.shape as usize] {
-            let light = &scene.lights[light_index as usize];
-            let le = light.area_radiance(hit.geometric_normal, wo);
-            if !le.is_black() {
-                let weight = if path.prev_delta {
-                    1.0
-                } else {
-                    let light_pdf = light.area_pdf(path.prev_point, hit.p, hit.geometric_normal)
-                        * scene.light_pick_probability();
-                    power_heuristic(path.prev_pdf, light_pdf)
-                };
-                path.radiance += path.throughput * le * weight;
-            }
-        }
-        if depth >= settings.max_depth {
-            break;
-        }
-        let material = &scene.shape_materials[hit.shape as usize];
-        let normal = if hit.shading_normal.dot(wo) >= 0.0 {
-            hit.shading_normal
-        } else {
-            -hit.shading_normal
-        };
-        let last_vertex = depth + 1 >= settings.max_depth;
-        if !material.is_delta() {
-            let vertex = Vertex::Surface {
-                hit: &hit,
-                normal,
-                wo,
-                material,
-            };
-            path.radiance +=
-                path.throughput * direct_light(scene, &vertex, ray.time, sampler, last_vertex);
-        }
-        if last_vertex {
-            break;
-        }
-        let Some(bs) = material.sample(normal, wo, sampler.next_2d()) else {
-            break;
-        };
-        path.throughput *= bs.weight;
-        path.prev_pdf = bs.pdf;
-        path.prev_delta = bs.is_delta;
-        path.prev_point = hit.p;
-        ray = ray.spawn(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
-        depth += 1;
-        if !russian_roulette(&mut path.throughput, depth, settings.rr_depth, sampler) {
-            break;
+        if let Some(step) = medium_segment(scene, path, t_surface, sampler) {
+            return step;
         }
     }
-    path.radiance
+    let Some(hit) = hit else {
+        let escaped = scene.escaped(path.ray.direction, path.prev_pdf, path.prev_delta);
+        path.radiance += path.throughput * escaped;
+        return Step::Stop;
+    };
+    add_surface_emission(scene, path, &hit);
+    if path.emission_only {
+        return Step::Stop;
+    }
+    surface_vertex(scene, path, &hit, sampler)
+}
+
+/// Free flight through the media up to `t_surface`, with equiangular sampling
+/// toward point lights; `None` when the ray reaches the surface (or escapes).
+fn medium_segment(
+    scene: &Scene,
+    path: &mut PathState,
+    t_surface: f32,
+    sampler: &mut Sampler,
+) -> Option<Step> {
+    // An equiangular sample is one more scattering event: not past the last one.
+    let segment = if path.emission_only {
+        None
+    } else {
+        equiangular::segment(scene, &path.ray, t_surface)
+    };
+    if let Some(segment) = &segment {
+        path.radiance += path.throughput * equiangular::estimate(scene, segment, sampler);
+    }
+    let event = sample_free_flight(
+        &scene.media,
+        &path.ray,
+        t_surface,
+        &mut path.throughput,
+        &mut path.radiance,
+        sampler,
+    );
+    match event {
+        FreeFlight::Absorbed => Some(Step::Stop),
+        FreeFlight::Passed => None,
+        FreeFlight::Scatter { .. } if path.emission_only => Some(Step::Stop),
+        FreeFlight::Scatter { t, properties, .. } => {
+            let p = path.ray.at(t);
+            path.scatter_depth += 1;
+            let vertex = Vertex::Medium {
+                p,
+                dir_in: path.ray.direction,
+                phase: &properties.phase,
+                equiangular: segment.as_ref().map(|s| (s, t)),
+            };
+            path.radiance += path.throughput * direct_light(scene, &vertex, path.ray.time, sampler);
+            let Some(ps) = properties
+                .phase
+                .sample(path.ray.direction, sampler.next_2d())
+            else {
+                return Some(Step::Stop);
+            };
+            path.throughput *= ps.weight;
+            Some(continue_path(
+                scene,
+                path,
+                path.ray.spawn(p, ps.direction),
+                ps.pdf,
+                false,
+                p,
+                sampler,
+            ))
+        }
+    }
+}
+
+/// Emission of an area light the ray hit, MIS-weighted against light sampling.
+fn add_surface_emission(scene: &Scene, path: &mut PathState, hit: &SurfaceHit) {
+    let Some(light_index) = scene.shape_lights[hit.shape as usize] else {
+        return;
+    };
+    let light = &scene.lights[light_index as usize];
+    let le = light.area_radiance(hit.geometric_normal, -path.ray.direction);
+    if le.is_black() {
+        return;
+    }
+    let weight = if path.prev_delta {
+        1.0
+    } else {
+        let light_pdf = light.area_pdf(path.prev_point, hit.p, hit.geometric_normal)
+            * scene.light_pick_probability();
+        power_heuristic(path.prev_pdf, light_pdf)
+    };
+    path.radiance += path.throughput * le * weight;
+}
+
+/// A surface scattering vertex: light sampling, then a BSDF-sampled continuation.
+fn surface_vertex(
+    scene: &Scene,
+    path: &mut PathState,
+    hit: &SurfaceHit,
+    sampler: &mut Sampler,
+) -> Step {
+    let wo = -path.ray.direction;
+    let material = &scene.shape_materials[hit.shape as usize];
+    let shading = Shading::facing(hit.shading_normal, wo);
+    if !material.is_delta() {
+        let vertex = Vertex::Surface {
+            hit,
+            shading,
+            wo,
+            material,
+        };
+        path.radiance += path.throughput * direct_light(scene, &vertex, path.ray.time, sampler);
+    }
+    let u = sampler.next_2d();
+    let Some(bs) = material.sample(&shading, wo, u, sampler.next_1d()) else {
+        return Step::Stop;
+    };
+    path.throughput *= bs.weight;
+    let ray = path
+        .ray
+        .spawn(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
+    continue_path(scene, path, ray, bs.pdf, bs.is_delta, hit.p, sampler)
+}
+
+/// Moves the path onto the sampled continuation `ray` from vertex `p`.
+///
+/// Past the last vertex the depth limits allow, the new ray is marked
+/// emission-only. Russian roulette may end the path here.
+fn continue_path(
+    scene: &Scene,
+    path: &mut PathState,
+    ray: Ray,
+    pdf: f32,
+    is_delta: bool,
+    p: Vec3,
+    sampler: &mut Sampler,
+) -> Step {
+    let settings = &scene.settings;
+    path.prev_pdf = pdf;
+    path.prev_delta = is_delta;
+    path.prev_point = p;
+    path.ray = ray;
+    path.depth += 1;
+    path.emission_only =
+        path.depth >= settings.max_depth || path.scatter_depth >= settings.max_scatter_depth;
+    if russian_roulette(&mut path.throughput, path.depth, settings.rr_depth, sampler) {
+        Step::Continue
+    } else {
+        Step::Stop
+    }
 }
 
 /// Ends the path with probability `1 - q` past `rr_depth`, reweighting survivors by `1/q`.

@@ -5,19 +5,92 @@
 //! Woodcock et al. 1965 (delta tracking); Novák et al. 2014 (ratio and
 //! residual ratio tracking); Kutz et al. 2017 (spectral and decomposition
 //! tracking); Miller et al. 2019 (the null-scattering path integral).
+//!
+//! # Bounded work per ray
+//!
+//! A ray costs one step per tentative collision, σ̄·d of them on average, so
+//! a dense volume (`density_scale = 1e6`) or a loose majorant could make one
+//! ray take millions of steps. Two mechanisms bound it:
+//!
+//! * Russian roulette on the transmittance weight (ratio and residual ratio
+//!   tracking): once every channel of the running product is below
+//!   [`ROULETTE_THRESHOLD`], the estimate survives with probability
+//!   p = max|T| / threshold and is divided by p. Its expectation is unchanged
+//!   (p · T/p = T), so the estimator stays unbiased; a shadow ray through a
+//!   thick medium ends after the few steps that take T below the threshold
+//!   instead of walking on until T underflows.
+//! * A hard cap of [`MAX_TENTATIVE_COLLISIONS`] per medium per ray, for the
+//!   cases roulette cannot shorten (free flight through a loose majorant).
+//!   A ray reaching it is ended, its transmittance or throughput set to zero
+//!   (a bias toward dark, in pathological scenes only), and counted: the
+//!   render reports how many rays hit the cap, as it reports non-finite
+//!   samples. No scene of the test suite comes near it.
 
 use crate::color::Rgb;
 use crate::math::Ray;
 use crate::medium::{MajorantIter, MajorantSegment, Medium, MediumProperties};
 use crate::sampling::Sampler;
+use kernel::{dispatch, TrackedMedium};
+use stats::Tally;
+pub use stats::{take_thread_stats, TrackingStats};
+
+mod kernel;
+mod stats;
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Below this max channel a transmittance weight plays Russian roulette.
+pub const ROULETTE_THRESHOLD: f32 = 0.1;
+
+/// Most tentative collisions one tracker takes along one ray (see the module doc).
+pub const MAX_TENTATIVE_COLLISIONS: u32 = 1 << 16;
+
+/// Rays ended by the cap since the process started.
+static CAPPED_RAYS: AtomicU64 = AtomicU64::new(0);
+
+/// Number of rays ended by [`MAX_TENTATIVE_COLLISIONS`] so far in this process.
+pub fn capped_rays() -> u64 {
+    CAPPED_RAYS.load(Ordering::Relaxed)
+}
+
+/// Russian roulette on a tracking weight: false if the weight was killed.
+///
+/// Unbiased: the survivor is divided by its survival probability.
+#[inline]
+fn roulette(w: &mut Rgb, sampler: &mut Sampler) -> bool {
+    let m = w.map(f32::abs).max_channel();
+    if m >= ROULETTE_THRESHOLD {
+        return true;
+    }
+    let p = m / ROULETTE_THRESHOLD;
+    if sampler.next_1d() < p {
+        *w /= p;
+        true
+    } else {
+        *w = Rgb::BLACK;
+        false
+    }
+}
+
+/// The next tracking position: `next`, or the next float after `t` when a
+/// step rounds to nothing (so a tracker always moves on).
+#[inline]
+fn advance(t: f32, next: f32) -> f32 {
+    if next > t {
+        next
+    } else {
+        t.next_up()
+    }
+}
 
 /// Walks the tentative collisions of one medium along a ray: a Poisson
 /// process with rate σ̄(t) given by the medium's majorant segments.
 #[derive(Clone, Debug)]
-pub struct Tracker {
-    segments: MajorantIter,
+pub struct Tracker<'a> {
+    segments: MajorantIter<'a>,
     current: Option<MajorantSegment>,
     t: f32,
+    steps: u32,
 }
 
 /// One tentative collision: where, and the majorant there.
@@ -31,9 +104,9 @@ pub struct Collision {
     pub sigma_control: Rgb,
 }
 
-impl Tracker {
+impl<'a> Tracker<'a> {
     /// Tracks `medium` along `ray` over `[0, t_max)`.
-    pub fn new(medium: &Medium, ray: &Ray, t_max: f32) -> Tracker {
+    pub fn new(medium: &'a Medium, ray: &Ray, t_max: f32) -> Tracker<'a> {
         let mut segments = medium.majorants(ray, t_max);
         let current = segments.next();
         let t = current.map_or(f32::INFINITY, |s| s.t0);
@@ -41,11 +114,35 @@ impl Tracker {
             segments,
             current,
             t,
+            steps: 0,
         }
+    }
+
+    /// Tracks one segment only.
+    fn single(seg: MajorantSegment) -> Tracker<'a> {
+        Tracker {
+            segments: MajorantIter::Single(None),
+            current: Some(seg),
+            t: seg.t0,
+            steps: 0,
+        }
+    }
+
+    /// True once the tracker stopped at [`MAX_TENTATIVE_COLLISIONS`].
+    pub fn capped(&self) -> bool {
+        self.steps > MAX_TENTATIVE_COLLISIONS
     }
 
     /// Advances to the next tentative collision, or `None` past the last segment.
     pub fn next(&mut self, sampler: &mut Sampler) -> Option<Collision> {
+        if self.steps >= MAX_TENTATIVE_COLLISIONS {
+            if self.steps == MAX_TENTATIVE_COLLISIONS {
+                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                self.steps += 1;
+            }
+            return None;
+        }
+        self.steps += 1;
         let mut tau = -(1.0 - sampler.next_1d()).ln();
         loop {
             let seg = self.current?;
@@ -59,7 +156,7 @@ impl Tracker {
                     // first: on an unbounded segment 0 · ∞ is NaN.
                     let dt = tau / sigma;
                     if dt < length {
-                        self.t = t + dt;
+                        self.t = advance(t, t + dt).min(seg.t1);
                         return Some(self.collision(&seg));
                     }
                     tau -= sigma * length;
@@ -68,7 +165,7 @@ impl Tracker {
                     let available = sigma * (-(-k * length).exp_m1()) / k;
                     if tau < available {
                         let dt = -(1.0 - tau * k / sigma).ln() / k;
-                        self.t = (t + dt).min(seg.t1);
+                        self.t = advance(t, t + dt).min(seg.t1);
                         return Some(self.collision(&seg));
                     }
                     tau -= available;
@@ -127,15 +224,34 @@ pub fn medium_transmittance(
 
 /// Ratio tracking: T = Π (1 - σt(x_i)/σ̄(x_i)) over tentative collisions, per channel.
 pub fn ratio_tracking(medium: &Medium, ray: &Ray, t_max: f32, sampler: &mut Sampler) -> Rgb {
-    let mut tracker = Tracker::new(medium, ray, t_max);
+    let tracker = Tracker::new(medium, ray, t_max);
+    dispatch!(medium, m => ratio_track(m, tracker, ray, true, sampler))
+}
+
+/// The ratio-tracking loop over the collisions of `tracker`, for one concrete
+/// medium, with or without Russian roulette.
+fn ratio_track<M: TrackedMedium>(
+    medium: &M,
+    mut tracker: Tracker,
+    ray: &Ray,
+    with_roulette: bool,
+    sampler: &mut Sampler,
+) -> Rgb {
     let mut tr = Rgb::WHITE;
+    let mut tally = Tally::default();
     while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t), ray.time);
-        let sigma_t = props.sigma_a + props.sigma_s;
+        let sigma_t = medium.sigma_t(ray.at(c.t), ray.time);
+        tally.add(sigma_t.max_channel(), c.sigma_maj);
         tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
         if negligible(tr) || inert(tr, sigma_t) {
-            break;
+            return tr;
         }
+        if with_roulette && !roulette(&mut tr, sampler) {
+            return Rgb::BLACK;
+        }
+    }
+    if tracker.capped() {
+        return Rgb::BLACK;
     }
     tr
 }
@@ -149,13 +265,26 @@ pub fn delta_tracking_transmittance(
     t_max: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
-    let mut tracker = Tracker::new(medium, ray, t_max);
+    let tracker = Tracker::new(medium, ray, t_max);
+    dispatch!(medium, m => delta_track(m, tracker, ray, sampler))
+}
+
+fn delta_track<M: TrackedMedium>(
+    medium: &M,
+    mut tracker: Tracker,
+    ray: &Ray,
+    sampler: &mut Sampler,
+) -> Rgb {
+    let mut tally = Tally::default();
     while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t), ray.time);
-        let sigma_t = (props.sigma_a + props.sigma_s).max_channel();
+        let sigma_t = medium.sigma_t(ray.at(c.t), ray.time).max_channel();
+        tally.add(sigma_t, c.sigma_maj);
         if sampler.next_1d() < sigma_t / c.sigma_maj {
             return Rgb::BLACK;
         }
+    }
+    if tracker.capped() {
+        return Rgb::BLACK;
     }
     Rgb::WHITE
 }
@@ -168,13 +297,28 @@ pub fn residual_ratio_tracking(
     t_max: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
+    let segments = medium.majorants(ray, t_max);
+    dispatch!(medium, m => residual_ratio_track(m, segments, ray, sampler))
+}
+
+fn residual_ratio_track<M: TrackedMedium>(
+    medium: &M,
+    segments: MajorantIter,
+    ray: &Ray,
+    sampler: &mut Sampler,
+) -> Rgb {
     let mut tr = Rgb::WHITE;
-    for seg in medium.majorants(ray, t_max) {
+    let mut tally = Tally::default();
+    let mut steps = 0u32;
+    for seg in segments {
         if seg.decay != 0.0 || seg.t1.is_infinite() {
             // No control for varying majorants, and an unbounded segment (a global
             // medium) has nothing left to track once the control is taken out:
             // plain ratio tracking, which knows when to stop.
-            tr *= ratio_tracking_segment(&seg, medium, ray, sampler);
+            tr *= ratio_track(medium, Tracker::single(seg), ray, true, sampler);
+            if tr.is_black() {
+                return tr;
+            }
             continue;
         }
         let control = seg.sigma_control;
@@ -191,36 +335,20 @@ pub fn residual_ratio_tracking(
             if t >= seg.t1 {
                 break;
             }
-            let props = medium.properties(ray.at(t), ray.time);
-            let residual = props.sigma_a + props.sigma_s - control;
+            steps += 1;
+            if steps > MAX_TENTATIVE_COLLISIONS {
+                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                return Rgb::BLACK;
+            }
+            let residual = medium.sigma_t(ray.at(t), ray.time) - control;
+            tally.add(residual.max_channel(), residual_maj);
             tr *= Rgb::WHITE - residual / residual_maj;
             if negligible(tr) {
                 return tr;
             }
-        }
-    }
-    tr
-}
-
-/// Ratio tracking restricted to one segment.
-fn ratio_tracking_segment(
-    seg: &MajorantSegment,
-    medium: &Medium,
-    ray: &Ray,
-    sampler: &mut Sampler,
-) -> Rgb {
-    let mut tracker = Tracker {
-        segments: MajorantIter::Single(None),
-        current: Some(*seg),
-        t: seg.t0,
-    };
-    let mut tr = Rgb::WHITE;
-    while let Some(c) = tracker.next(sampler) {
-        let props = medium.properties(ray.at(c.t), ray.time);
-        let sigma_t = props.sigma_a + props.sigma_s;
-        tr *= Rgb::WHITE - sigma_t / c.sigma_maj;
-        if negligible(tr) || inert(tr, sigma_t) {
-            break;
+            if !roulette(&mut tr, sampler) {
+                return Rgb::BLACK;
+            }
         }
     }
     tr
@@ -285,8 +413,15 @@ pub fn sample_free_flight(
     radiance: &mut Rgb,
     sampler: &mut Sampler,
 ) -> FreeFlight {
+    if let [medium] = media {
+        // One medium (the common case): no earliest-collision search, no tracker array.
+        let tracker = Tracker::new(medium, ray, t_max);
+        return dispatch!(medium, m => {
+            free_flight_one(m, tracker, ray, t_max, throughput, radiance, sampler)
+        });
+    }
     let mut trackers: [Option<(usize, Tracker, Collision)>; MAX_OVERLAPPING_MEDIA] =
-        Default::default();
+        [const { None }; MAX_OVERLAPPING_MEDIA];
     let mut count = 0;
     for (index, medium) in media.iter().enumerate() {
         let mut tracker = Tracker::new(medium, ray, t_max);
@@ -297,6 +432,7 @@ pub fn sample_free_flight(
             }
         }
     }
+    let mut tally = Tally::default();
     loop {
         let mut best: Option<usize> = None;
         let mut best_t = t_max;
@@ -313,38 +449,111 @@ pub fn sample_free_flight(
         };
         let (medium_index, tracker, collision) = trackers[slot].as_mut().expect("chosen slot");
         let props = media[*medium_index].properties(ray.at(collision.t), ray.time);
-        let inv_maj = 1.0 / collision.sigma_maj;
-        if !props.emission.is_black() {
-            *radiance += *throughput * props.sigma_a * props.emission * inv_maj;
+        match collide(&props, collision, throughput, radiance, sampler, &mut tally) {
+            Step::Scatter => {
+                return FreeFlight::Scatter {
+                    t: collision.t,
+                    medium: *medium_index,
+                    properties: props,
+                }
+            }
+            Step::Absorbed => return FreeFlight::Absorbed,
+            Step::Inert => trackers[slot] = None,
+            Step::Null => match tracker.next(sampler) {
+                Some(c) => *collision = c,
+                None if tracker.capped() => {
+                    *throughput = Rgb::BLACK;
+                    return FreeFlight::Absorbed;
+                }
+                None => trackers[slot] = None,
+            },
         }
-        let sigma_t = props.sigma_a + props.sigma_s;
-        let w_scatter = *throughput * props.sigma_s * inv_maj;
-        let w_null = *throughput * (Rgb::splat(collision.sigma_maj) - sigma_t) * inv_maj;
-        let p_scatter_raw = w_scatter.map(f32::abs).average();
-        let p_null_raw = w_null.map(f32::abs).average();
-        let total = p_scatter_raw + p_null_raw;
-        if total < f32::MIN_POSITIVE || !total.is_finite() {
-            *throughput = Rgb::BLACK;
-            return FreeFlight::Absorbed;
+    }
+}
+
+/// Free-flight sampling through a single medium.
+fn free_flight_one<M: TrackedMedium>(
+    medium: &M,
+    mut tracker: Tracker,
+    ray: &Ray,
+    t_max: f32,
+    throughput: &mut Rgb,
+    radiance: &mut Rgb,
+    sampler: &mut Sampler,
+) -> FreeFlight {
+    let mut tally = Tally::default();
+    while let Some(collision) = tracker.next(sampler) {
+        // As the multi-medium search: a collision clamped onto t_max is not inside.
+        if collision.t >= t_max {
+            break;
         }
-        let p_scatter = p_scatter_raw / total;
-        if sampler.next_1d() < p_scatter {
-            *throughput = w_scatter / p_scatter;
-            return FreeFlight::Scatter {
-                t: collision.t,
-                medium: *medium_index,
-                properties: props,
-            };
+        let props = medium.properties(ray.at(collision.t), ray.time);
+        match collide(
+            &props, &collision, throughput, radiance, sampler, &mut tally,
+        ) {
+            Step::Scatter => {
+                return FreeFlight::Scatter {
+                    t: collision.t,
+                    medium: 0,
+                    properties: props,
+                }
+            }
+            Step::Absorbed => return FreeFlight::Absorbed,
+            Step::Inert => break,
+            Step::Null => {}
         }
-        *throughput = w_null / (1.0 - p_scatter);
-        if inert(*throughput, sigma_t) {
-            trackers[slot] = None;
-            continue;
-        }
-        match tracker.next(sampler) {
-            Some(c) => *collision = c,
-            None => trackers[slot] = None,
-        }
+    }
+    if tracker.capped() {
+        *throughput = Rgb::BLACK;
+        return FreeFlight::Absorbed;
+    }
+    FreeFlight::Passed
+}
+
+/// What one tentative collision of a free flight turned out to be.
+enum Step {
+    Scatter,
+    Absorbed,
+    /// Null, and the medium can no longer change the throughput (see `inert`).
+    Inert,
+    Null,
+}
+
+/// Classifies a tentative collision by spectral tracking, updating the throughput and adding emission.
+#[inline]
+fn collide(
+    props: &MediumProperties,
+    collision: &Collision,
+    throughput: &mut Rgb,
+    radiance: &mut Rgb,
+    sampler: &mut Sampler,
+    tally: &mut Tally,
+) -> Step {
+    let inv_maj = 1.0 / collision.sigma_maj;
+    if !props.emission.is_black() {
+        *radiance += *throughput * props.sigma_a * props.emission * inv_maj;
+    }
+    let sigma_t = props.sigma_a + props.sigma_s;
+    tally.add(sigma_t.max_channel(), collision.sigma_maj);
+    let w_scatter = *throughput * props.sigma_s * inv_maj;
+    let w_null = *throughput * (Rgb::splat(collision.sigma_maj) - sigma_t) * inv_maj;
+    let p_scatter_raw = w_scatter.map(f32::abs).average();
+    let p_null_raw = w_null.map(f32::abs).average();
+    let total = p_scatter_raw + p_null_raw;
+    if total < f32::MIN_POSITIVE || !total.is_finite() {
+        *throughput = Rgb::BLACK;
+        return Step::Absorbed;
+    }
+    let p_scatter = p_scatter_raw / total;
+    if sampler.next_1d() < p_scatter {
+        *throughput = w_scatter / p_scatter;
+        return Step::Scatter;
+    }
+    *throughput = w_null / (1.0 - p_scatter);
+    if inert(*throughput, sigma_t) {
+        Step::Inert
+    } else {
+        Step::Null
     }
 }
 
@@ -361,13 +570,37 @@ pub fn ratio_tracking_scaled_majorant(
     scale: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
+    scaled_majorant_tracking(medium, ray, t_max, scale, false, sampler)
+}
+
+/// [`ratio_tracking_scaled_majorant`] with the Russian roulette the renderer plays.
+pub fn ratio_tracking_scaled_majorant_roulette(
+    medium: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    scale: f32,
+    sampler: &mut Sampler,
+) -> Rgb {
+    scaled_majorant_tracking(medium, ray, t_max, scale, true, sampler)
+}
+
+fn scaled_majorant_tracking(
+    medium: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    scale: f32,
+    with_roulette: bool,
+    sampler: &mut Sampler,
+) -> Rgb {
     let mut tr = Rgb::WHITE;
     for seg in medium.majorants(ray, t_max) {
         let inflated = MajorantSegment {
             sigma_maj: seg.sigma_maj * scale.max(1.0),
             ..seg
         };
-        tr *= ratio_tracking_segment(&inflated, medium, ray, sampler);
+        tr *= dispatch!(medium, m => {
+            ratio_track(m, Tracker::single(inflated), ray, with_roulette, sampler)
+        });
     }
     tr
 }

@@ -67,16 +67,16 @@ impl MajorantSegment {
 
 /// The majorant segments of one medium along one ray, in increasing t.
 #[derive(Clone, Debug)]
-pub enum MajorantIter {
+pub enum MajorantIter<'a> {
     /// At most one segment.
     Single(Option<MajorantSegment>),
     /// The pieces of a height fog.
     Fog(height_fog::FogSegments),
     /// A DDA over the majorant cells of a grid medium.
-    Grid(grid::GridMajorants),
+    Grid(grid::GridMajorants<'a>),
 }
 
-impl Iterator for MajorantIter {
+impl Iterator for MajorantIter<'_> {
     type Item = MajorantSegment;
     #[inline]
     fn next(&mut self) -> Option<MajorantSegment> {
@@ -113,9 +113,25 @@ impl Medium {
         }
     }
 
+    /// Extinction σa + σs at world point `p`: all that tracking a shadow ray needs.
+    #[inline]
+    pub fn sigma_t(&self, p: Vec3) -> Rgb {
+        match self {
+            Medium::Homogeneous(m) => {
+                let p = m.properties(p);
+                p.sigma_a + p.sigma_s
+            }
+            Medium::HeightFog(m) => {
+                let p = m.properties(p);
+                p.sigma_a + p.sigma_s
+            }
+            Medium::Grid(m) => m.sigma_t(p),
+        }
+    }
+
     /// Majorant segments along `ray` within `[0, t_max)`.
     #[inline]
-    pub fn majorants(&self, ray: &Ray, t_max: f32) -> MajorantIter {
+    pub fn majorants(&self, ray: &Ray, t_max: f32) -> MajorantIter<'_> {
         match self {
             Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
             Medium::HeightFog(m) => MajorantIter::Fog(m.majorants(ray, t_max)),

@@ -9,7 +9,9 @@
 //!   pdf(t) = D / ((θ_b − θ_a) (D² + (t − Δ)²)).
 //!
 //! Degenerate case: when the light lies on the ray's line (D below 1e-6 of the
-//! segment's distances, the rounding noise of D itself), the density above tends
+//! light's distance from the ray origin, the rounding noise of D itself: a
+//! threshold that scales with the scene, unlike one tied to the segment's
+//! length, which would call a light beside a long segment "on it"), the density above tends
 //! to `s_a s_b / ((s_b − s_a) s²)` with s = t − Δ if the light is outside the
 //! segment, and that limit is sampled instead; if the light is on the segment no
 //! normalizable density exists, so `sample_equiangular` returns `None` and
@@ -18,7 +20,7 @@
 use super::Sample;
 use crate::math::Vec3;
 
-/// Below this ratio of D to the segment's extent, the light counts as on the line.
+/// Below this ratio of D to the light's distance from the ray origin, the light counts as on the line.
 const ON_LINE_RATIO: f32 = 1e-6;
 
 /// The shape of the density for one (ray, light, interval).
@@ -47,7 +49,7 @@ fn setup(origin: Vec3, dir: Vec3, light_pos: Vec3, t_min: f32, t_max: f32) -> Op
     // |(c − o) × d| rather than |c − (o + Δd)|: no cancellation when the light is far away.
     let d = to_light.cross(dir).length();
     let (s_a, s_b) = (t_min - delta, t_max - delta);
-    let shape = if d > ON_LINE_RATIO * s_a.abs().max(s_b.abs()) {
+    let shape = if d > ON_LINE_RATIO * to_light.length() {
         // θ_b − θ_a by the tangent subtraction formula: stays accurate when both
         // angles crowd ±π/2, where subtracting two atans would cancel.
         let theta = (d * (s_b - s_a)).atan2(d * d + s_a * s_b);

@@ -12,6 +12,7 @@
 //! with or without a shutter unless something in it moves.
 
 pub mod chi2;
+pub mod distribution;
 pub mod equiangular;
 pub mod quadrature;
 pub mod warp;

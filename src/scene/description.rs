@@ -68,6 +68,23 @@ pub struct SceneDesc {
     /// `[animation]`: frame rate, frame offset, missing frames.
     #[serde(default)]
     pub animation: super::animation::AnimationDesc,
+    /// `[film]`.
+    #[serde(default)]
+    pub film: FilmDesc,
+}
+
+/// `[film]`: what the EXR holds beside the beauty.
+///
+/// ```toml
+/// [film]
+/// aovs = ["alpha", "depth", "normal", "albedo", "transmittance"]
+/// ```
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilmDesc {
+    /// AOV names, written as extra EXR layers.
+    #[serde(default)]
+    pub aovs: Vec<String>,
 }
 
 /// `[camera]`: a pinhole camera.
@@ -90,6 +107,15 @@ pub struct CameraDesc {
     /// Shutter `[open, close]` in frames relative to the frame's time (motion blur).
     #[serde(default)]
     pub shutter: Option<[f32; 2]>,
+    /// Image axis `fov` spans: "y"/"vertical" (default) or "x"/"horizontal".
+    #[serde(default)]
+    pub fov_axis: Option<String>,
+    /// Thin-lens radius (0 = pinhole).
+    #[serde(default)]
+    pub aperture_radius: Option<f32>,
+    /// Distance to the plane in focus (default: to `look_at`).
+    #[serde(default)]
+    pub focus_distance: Option<f32>,
 }
 
 fn default_up() -> [f32; 3] {
@@ -183,9 +209,9 @@ pub enum LightDesc {
         /// Half-angle of the cone in degrees.
         #[serde(default = "default_cone_angle")]
         cone_angle: f32,
-        /// Width of the soft edge in degrees (inside the cone).
-        #[serde(default = "default_cone_falloff")]
-        cone_falloff: f32,
+        /// Width of the soft edge in degrees (inside the cone; default 5, or the whole cone if narrower).
+        #[serde(default)]
+        cone_falloff: Option<f32>,
     },
     /// The sun: a distant disk.
     Sun {
@@ -202,6 +228,17 @@ pub enum LightDesc {
         /// Radiance from every direction.
         radiance: Color,
     },
+    /// Lat-long HDR environment map (EXR).
+    EnvironmentMap {
+        /// EXR file, relative to the scene file.
+        file: PathBuf,
+        /// Radiance multiplier (number or RGB).
+        #[serde(default = "default_map_scale")]
+        scale: Color,
+        /// Rotation of the map in degrees about X, then Y, then Z.
+        #[serde(default)]
+        rotate: Option<[f32; 3]>,
+    },
     /// Sky gradient environment.
     Sky {
         /// Radiance at the zenith.
@@ -217,12 +254,14 @@ pub enum LightDesc {
     },
 }
 
+fn default_map_scale() -> Color {
+    Color([1.0; 3])
+}
 fn default_cone_angle() -> f32 {
     30.0
 }
-fn default_cone_falloff() -> f32 {
-    5.0
-}
+/// Soft edge of a spot light when `cone_falloff` is not given (at most the cone itself).
+pub const DEFAULT_CONE_FALLOFF: f32 = 5.0;
 fn default_sun_radius() -> f32 {
     0.265
 }
@@ -267,6 +306,34 @@ pub enum MaterialDesc {
         #[serde(default = "default_reflectance")]
         reflectance: Color,
     },
+    /// Glass-like interface: smooth (alpha = 0) or GGX-rough.
+    Dielectric {
+        /// Index of refraction inside the shape.
+        #[serde(default = "default_ior")]
+        ior: f32,
+        /// GGX α (0 = smooth).
+        #[serde(default)]
+        alpha: f32,
+    },
+    /// Metal: smooth (alpha = 0) or GGX-rough, with a complex index or a Schlick F0.
+    Conductor {
+        /// GGX α (0 = smooth).
+        #[serde(default)]
+        alpha: f32,
+        /// Real part of the complex index of refraction, per channel.
+        #[serde(default)]
+        eta: Option<Color>,
+        /// Extinction coefficient, per channel.
+        #[serde(default)]
+        k: Option<Color>,
+        /// Reflectance at normal incidence (Schlick), instead of eta and k.
+        #[serde(default)]
+        f0: Option<Color>,
+    },
+}
+
+fn default_ior() -> f32 {
+    1.5
 }
 
 fn default_reflectance() -> Color {
@@ -313,6 +380,9 @@ pub struct ShapeDesc {
     /// Placement applied to the shape.
     #[serde(default)]
     pub transform: Option<TransformDesc>,
+    /// A medium filling the shape: read so that it can be refused clearly (not supported yet).
+    #[serde(default)]
+    pub interior: Option<serde::de::IgnoredAny>,
 }
 
 /// The kinds of shape.
@@ -407,17 +477,17 @@ pub enum PhaseDesc {
     Isotropic {},
     /// Henyey–Greenstein with asymmetry g in (-1, 1).
     Hg {
-        /// Mean cosine.
-        g: f32,
+        /// Mean cosine (read in f64 so that a value that rounds to ±1 in f32 is reported as written).
+        g: f64,
     },
     /// Rayleigh.
     Rayleigh {},
     /// Two HG lobes: weight·HG(g_forward) + (1-weight)·HG(g_back).
     DoubleHg {
         /// Forward lobe asymmetry.
-        g_forward: f32,
+        g_forward: f64,
         /// Backward lobe asymmetry.
-        g_back: f32,
+        g_back: f64,
         /// Weight of the forward lobe in [0, 1].
         weight: f32,
     },

@@ -51,6 +51,9 @@ pub(crate) fn build_height_fog(desc: &MediumDesc, field: &str, check: &Check) ->
         Some(e) => check.color(&f("emission"), *e)?,
         None => Rgb::BLACK,
     };
+    if !emission.is_black() {
+        super::media::warn_inert_emission(field, sigma_a, check);
+    }
     Ok(Medium::HeightFog(HeightFog {
         sigma_a,
         sigma_s,

@@ -16,22 +16,43 @@ pub(crate) fn build_phase(
     check: &Check,
 ) -> Result<PhaseFunction> {
     let field = format!("{field}.phase");
+    let g = |name: &str, g: f64| asymmetry(&format!("{field}.{name}"), g, check);
     let phase = match desc {
         None | Some(PhaseDesc::Isotropic {}) => PhaseFunction::Isotropic,
-        Some(PhaseDesc::Hg { g }) => PhaseFunction::HenyeyGreenstein { g: *g },
+        Some(PhaseDesc::Hg { g: v }) => PhaseFunction::HenyeyGreenstein { g: g("g", *v)? },
         Some(PhaseDesc::Rayleigh {}) => PhaseFunction::Rayleigh,
         Some(PhaseDesc::DoubleHg {
             g_forward,
             g_back,
             weight,
         }) => PhaseFunction::DoubleHenyeyGreenstein {
-            g_forward: *g_forward,
-            g_back: *g_back,
-            weight_forward: *weight,
+            g_forward: g("g_forward", *g_forward)?,
+            g_back: g("g_back", *g_back)?,
+            weight_forward: check.range(&format!("{field}.weight"), *weight, 0.0, 1.0, true)?,
         },
     };
-    phase.validate().map_err(|m| check.error(&field, m))?;
+    // The phase module names its own parameters (weight_forward); the user wrote `weight`.
+    phase
+        .validate()
+        .map_err(|m| check.error(&field, m.replace("weight_forward", "weight")))?;
     Ok(phase)
+}
+
+/// A Henyey–Greenstein asymmetry as written (f64), in (-1, 1) also once rounded to f32.
+fn asymmetry(field: &str, g: f64, check: &Check) -> Result<f32> {
+    if !(g.is_finite() && g.abs() < 1.0) {
+        return Err(check.error(field, format!("must be in (-1, 1), got {g}")));
+    }
+    let rounded = g as f32;
+    if rounded.abs() >= 1.0 {
+        return Err(check.error(
+            field,
+            format!(
+                "{g} rounds to {rounded} in single precision, where the lobe is a delta; use |g| <= 0.9999"
+            ),
+        ));
+    }
+    Ok(rounded)
 }
 
 /// σa and σs from either (sigma_a, sigma_s) or (sigma_t, albedo).
@@ -73,6 +94,18 @@ pub(crate) fn coefficients(
                 check.color(&f("sigma_s"), sigma_s.unwrap_or(zero))?,
             ))
         }
+    }
+}
+
+/// Warns that emission given to a medium that absorbs nothing (albedo 1, or
+/// σa = 0) does nothing: the source term is σa·Le.
+pub(crate) fn warn_inert_emission(field: &str, sigma_a: Rgb, check: &Check) {
+    if sigma_a.is_black() {
+        check.warn(
+            &format!("{field}.emission"),
+            "does nothing: the medium absorbs nothing (albedo 1 or sigma_a = 0) and emits \
+             sigma_a x emission; lower the albedo or give sigma_a",
+        );
     }
 }
 
@@ -152,6 +185,9 @@ pub(crate) fn build_medium(
                 Some(e) => check.color(&format!("{field}.emission"), *e)?,
                 None => Rgb::BLACK,
             };
+            if !emission.is_black() {
+                warn_inert_emission(field, sigma_a, check);
+            }
             Ok(Medium::Homogeneous(HomogeneousMedium {
                 sigma_a,
                 sigma_s,

@@ -3,13 +3,15 @@
 
 pub mod animation;
 pub mod description;
+mod envmap;
 mod fog;
+mod materials;
 mod media;
 mod shapes;
 mod validate;
 pub mod vdb;
 
-use crate::camera::Camera;
+use crate::camera::{Camera, FovAxis};
 use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
@@ -23,13 +25,71 @@ use validate::Check;
 
 /// Reads, validates and builds the scene in `path`.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Input {
-        path: path.to_path_buf(),
-        message: format!("cannot read scene file: {e}"),
-    })?;
+    load_with_inputs(path).map(|loaded| loaded.scene)
+}
+
+/// A loaded scene with what the command line needs around it.
+pub struct Loaded {
+    /// The scene.
+    pub scene: Scene,
+    /// Every file the scene reads: the scene file, its OBJ and VDB files.
+    pub inputs: Vec<PathBuf>,
+    /// Warnings, each `FILE: FIELD: message`: valid values that probably are not what was meant.
+    pub warnings: Vec<String>,
+}
+
+/// [`load`], with the scene's input files and warnings.
+pub fn load_with_inputs(path: &Path) -> Result<Loaded> {
+    load_frame_with_inputs(path, None)
+}
+
+/// [`load_frame`], with the frame's input files and warnings.
+pub fn load_frame_with_inputs(path: &Path, frame: Option<i64>) -> Result<Loaded> {
+    let text = read_scene_text(path)?;
     let desc = parse(&text, path)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    build(&desc, path, &base)
+    let (scene, warnings) = build_frame(&desc, path, &base, frame)?;
+    let frame_file = |file: PathBuf| match frame {
+        Some(f) if animation::has_pattern(&file) => animation::resolve_frame(
+            &file,
+            f,
+            desc.animation.frame_offset,
+            desc.animation.missing_frames,
+        )
+        .unwrap_or(file),
+        _ => file,
+    };
+    let mut inputs = vec![path.to_path_buf()];
+    inputs.extend(
+        desc.shapes
+            .iter()
+            .filter_map(|s| s.file.as_ref())
+            .map(|f| resolve(&base, f)),
+    );
+    inputs.extend(desc.media.iter().filter_map(|m| match m {
+        description::MediumDesc::Vdb(v) => Some(frame_file(resolve(&base, &v.file))),
+        _ => None,
+    }));
+    Ok(Loaded {
+        scene,
+        inputs,
+        warnings,
+    })
+}
+
+/// Largest scene file read (scene files are hand-written; meshes go in OBJ files).
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
+/// The text of a scene file, refusing what is not a regular file of sane size.
+fn read_scene_text(path: &Path) -> Result<String> {
+    let input = |message: String| Error::Input {
+        path: path.to_path_buf(),
+        message,
+    };
+    if let Some(problem) = crate::error::input_file_problem(path, MAX_SCENE_BYTES) {
+        return Err(input(format!("cannot read scene file: {problem}")));
+    }
+    std::fs::read_to_string(path).map_err(|e| input(format!("cannot read scene file: {e}")))
 }
 
 /// Parses scene TOML; errors carry the line (syntax) or the dotted path of the culprit.
@@ -49,9 +109,12 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
             e.message().trim().replace('\n', " "),
         )
     })?;
-    for (key, value) in table.iter_mut() {
+    for (key, value) in table.iter() {
         animation::reject_keyframes(value, key)
             .map_err(|(field, message)| scene_error(field, message))?;
+    }
+    check_table_shapes(&table).map_err(|(field, message)| scene_error(field, message))?;
+    for (key, value) in table.iter_mut() {
         retag(value, key, key).map_err(|(field, message)| scene_error(field, message))?;
     }
     serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
@@ -66,6 +129,86 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
             message,
         )
     })
+}
+
+/// What a TOML value is, in TOML's words (`a string "diffuse"`, `an array`).
+fn toml_kind(v: &toml::Value) -> String {
+    match v {
+        toml::Value::String(s) => format!("a string \"{s}\""),
+        toml::Value::Integer(i) => format!("the number {i}"),
+        toml::Value::Float(f) => format!("the number {f}"),
+        toml::Value::Boolean(b) => format!("{b}"),
+        toml::Value::Datetime(_) => "a date".into(),
+        toml::Value::Array(_) => "an array".into(),
+        toml::Value::Table(_) => "a table".into(),
+    }
+}
+
+/// A table written as the user would write it, for "expected ..." messages.
+fn table_example(key: &str) -> &'static str {
+    match key {
+        "material" => "{ type = \"diffuse\", albedo = 0.5 }",
+        "phase" => "{ type = \"hg\", g = 0.3 }",
+        "bounds" => "{ type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }",
+        "transform" => "{ translate = [0.0, 1.0, 0.0] }",
+        _ => "{ ... }",
+    }
+}
+
+/// Checks that tables are written as tables before serde sees them: its
+/// messages for a string or array in their place name Rust types
+/// (`expected struct CameraDesc`), not what to write.
+fn check_table_shapes(top: &toml::Table) -> std::result::Result<(), (String, String)> {
+    for key in ["camera", "integrator"] {
+        if let Some(v) = top.get(key) {
+            if !v.is_table() {
+                return Err((
+                    key.into(),
+                    format!(
+                        "expected one [{key}] table, got {} (write [{key}], not [[{key}]])",
+                        toml_kind(v)
+                    ),
+                ));
+            }
+        }
+    }
+    for key in ["light", "shape", "medium", "media"] {
+        match top.get(key) {
+            None => {}
+            Some(toml::Value::Array(items)) => {
+                for (i, item) in items.iter().enumerate() {
+                    let toml::Value::Table(t) = item else {
+                        return Err((
+                            format!("{key}[{i}]"),
+                            format!("expected a [[{key}]] table, got {}", toml_kind(item)),
+                        ));
+                    };
+                    for inner in ["material", "phase", "bounds", "transform"] {
+                        if let Some(v) = t.get(inner).filter(|v| !v.is_table()) {
+                            return Err((
+                                format!("{key}[{i}].{inner}"),
+                                format!(
+                                    "expected a table like {}, got {}",
+                                    table_example(inner),
+                                    toml_kind(v)
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+            Some(v) => {
+                return Err((
+                    key.into(),
+                    format!(
+                        "expected [[{key}]] tables (an array of tables), got {} (write [[{key}]], not [{key}])",
+                        toml_kind(v)
+                    ),
+                ))
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Keys whose tables carry a `type` that selects an enum variant.
@@ -129,27 +272,30 @@ fn field_path(path: &serde_path_to_error::Path) -> String {
 
 /// Builds the runtime scene from a parsed description (a still: frame patterns are refused).
 pub fn build(desc: &SceneDesc, file: &Path, base: &Path) -> Result<Scene> {
+    build_with_warnings(desc, file, base).map(|(scene, _)| scene)
+}
+
+/// [`build`], with the warnings about values that are valid but probably not meant.
+pub fn build_with_warnings(
+    desc: &SceneDesc,
+    file: &Path,
+    base: &Path,
+) -> Result<(Scene, Vec<String>)> {
     build_frame(desc, file, base, None)
 }
 
 /// Reads, validates and builds the scene in `path` for `frame` (frame patterns resolved).
 pub fn load_frame(path: &Path, frame: Option<i64>) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Input {
-        path: path.to_path_buf(),
-        message: format!("cannot read scene file: {e}"),
-    })?;
-    let desc = parse(&text, path)?;
-    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    build_frame(&desc, path, &base, frame)
+    load_frame_with_inputs(path, frame).map(|loaded| loaded.scene)
 }
 
-/// Builds the runtime scene for `frame` (`None` for a still).
+/// Builds the runtime scene for `frame` (`None` for a still), with its warnings.
 pub fn build_frame(
     desc: &SceneDesc,
     file: &Path,
     base: &Path,
     frame: Option<i64>,
-) -> Result<Scene> {
+) -> Result<(Scene, Vec<String>)> {
     let check = Check::new(file);
     let camera = build_camera(desc, &check)?;
     let integ = &desc.integrator;
@@ -213,13 +359,13 @@ pub fn build_frame(
     }
     let mut environments = 0;
     for (i, light) in desc.lights.iter().enumerate() {
-        let built = build_light(light, &format!("light[{i}]"), &check)?;
+        let built = build_light(light, &format!("light[{i}]"), &check, base)?;
         if matches!(built, Light::Environment(_)) {
             environments += 1;
             if environments > 1 {
                 return Err(check.error(
                     &format!("light[{i}]"),
-                    "only one environment or sky light is allowed",
+                    "only one environment, sky or environment_map light is allowed",
                 ));
             }
         }
@@ -242,7 +388,7 @@ pub fn build_frame(
         .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base, &timing))
         .collect::<Result<Vec<_>>>()?;
 
-    Ok(Scene {
+    let scene = Scene {
         camera,
         geometry,
         shape_materials,
@@ -250,7 +396,30 @@ pub fn build_frame(
         lights,
         media,
         settings,
-    })
+        aovs: build_aovs(&desc.film.aovs, &check)?,
+    };
+    Ok((scene, check.take_warnings()))
+}
+
+/// `[film] aovs`: known names, each once.
+fn build_aovs(names: &[String], check: &Check) -> Result<Vec<crate::integrator::aov::Aov>> {
+    use crate::integrator::aov::Aov;
+    let mut aovs = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        let field = format!("film.aovs[{i}]");
+        let Some(aov) = Aov::from_name(name) else {
+            let known: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
+            return Err(check.error(
+                &field,
+                format!("unknown AOV `{name}`, expected one of {}", known.join(", ")),
+            ));
+        };
+        if aovs.contains(&aov) {
+            return Err(check.error(&field, format!("`{name}` is listed twice")));
+        }
+        aovs.push(aov);
+    }
+    Ok(aovs)
 }
 
 /// `camera.shutter = [open, close]`: finite, open ≤ close, at most a frame either side.
@@ -278,11 +447,41 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     if w > 32768 || h > 32768 {
         return Err(check.error("camera.resolution", "at most 32768 pixels a side"));
     }
-    if (look_at - position).length() == 0.0 {
+    // In f64: a look_at 1e30 away overflows the f32 length and is not a parallel up.
+    let view = look_at.as_dvec3() - position.as_dvec3();
+    if view.length() == 0.0 {
         return Err(check.error("camera.look_at", "equals camera.position"));
     }
-    Camera::new(position, look_at, up, c.fov, w, h)
-        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))
+    // A step the f32 position can resolve: 1 m, or a thousandth of a huge position.
+    let step = position.length().max(1.0) * 1e-3 + 1.0;
+    let aim = position + (view / view.length()).as_vec3() * step;
+    let camera = Camera::new(position, aim, up, c.fov, w, h)
+        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))?;
+    let axis = match c.fov_axis.as_deref() {
+        None | Some("y" | "vertical") => FovAxis::Vertical,
+        Some("x" | "horizontal") => FovAxis::Horizontal,
+        Some(other) => {
+            return Err(check.error(
+                "camera.fov_axis",
+                format!("unknown axis `{other}`, expected \"y\" (vertical) or \"x\" (horizontal)"),
+            ))
+        }
+    };
+    let aperture = match c.aperture_radius {
+        Some(a) if check.finite("camera.aperture_radius", a)? < 0.0 => {
+            return Err(check.error(
+                "camera.aperture_radius",
+                format!("must be 0 or more, got {a}"),
+            ))
+        }
+        Some(a) => a,
+        None => 0.0,
+    };
+    let focus = match c.focus_distance {
+        Some(f) => check.positive("camera.focus_distance", f)?,
+        None => view.length() as f32,
+    };
+    Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
 }
 
 fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Result<Material> {
@@ -301,10 +500,16 @@ fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Re
         Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
             reflectance: check.albedo(&format!("{field}.reflectance"), *reflectance)?,
         },
+        Some(MaterialDesc::Dielectric { ior, alpha }) => {
+            materials::dielectric(check, &field, *ior, *alpha)?
+        }
+        Some(MaterialDesc::Conductor { alpha, eta, k, f0 }) => {
+            materials::conductor(check, &field, *alpha, *eta, *k, *f0)?
+        }
     })
 }
 
-fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
+fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {
     let f = |name: &str| format!("{field}.{name}");
     Ok(match desc {
         LightDesc::Point {
@@ -326,7 +531,11 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
                 .try_normalize()
                 .ok_or_else(|| check.error(&f("look_at"), "equals the light position"))?;
             let outer = check.range(&f("cone_angle"), *cone_angle, 0.0, 180.0, false)?;
-            let falloff = check.range(&f("cone_falloff"), *cone_falloff, 0.0, outer, true)?;
+            // The default edge never exceeds a narrow cone: only a value the user wrote is checked.
+            let falloff = match cone_falloff {
+                Some(v) => check.range(&f("cone_falloff"), *v, 0.0, outer, true)?,
+                None => description::DEFAULT_CONE_FALLOFF.min(outer),
+            };
             Light::Spot {
                 position,
                 axis,
@@ -351,6 +560,17 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check) -> Result<Light> {
         LightDesc::Environment { radiance } => Light::Environment(Environment::Constant {
             radiance: check.color(&f("radiance"), *radiance)?,
         }),
+        LightDesc::EnvironmentMap {
+            file,
+            scale,
+            rotate,
+        } => Light::Environment(Environment::Map(std::sync::Arc::new(envmap::build(
+            check,
+            field,
+            &resolve(base, file),
+            *scale,
+            *rotate,
+        )?))),
         LightDesc::Sky {
             zenith,
             horizon,

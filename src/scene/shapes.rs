@@ -87,6 +87,12 @@ pub(crate) fn build_shape(
     base: &Path,
 ) -> Result<Vec<Primitive>> {
     reject_foreign_keys(shape, field, check)?;
+    if shape.interior.is_some() {
+        return Err(check.error(
+            &format!("{field}.interior"),
+            "media bounded by shapes are not supported yet; use a [[medium]] with box or sphere `bounds`",
+        ));
+    }
     let m = build_transform(shape.transform.as_ref(), field, check)?;
     let center = check.vec3(&format!("{field}.center"), shape.center.unwrap_or([0.0; 3]))?;
     let size = |n: usize| -> Result<Vec<f32>> {
@@ -177,10 +183,16 @@ pub(crate) fn build_shape(
     })
 }
 
+/// Largest OBJ file read (a few tens of millions of triangles).
+const MAX_OBJ_BYTES: u64 = 2 << 30;
+
 /// Triangles of an OBJ file, transformed by `m`.
 fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Vec<Primitive>> {
-    if !path.is_file() {
-        return Err(check.error(field, format!("OBJ file {} not found", path.display())));
+    if let Some(problem) = crate::error::input_file_problem(path, MAX_OBJ_BYTES) {
+        return Err(check.error(
+            field,
+            format!("cannot read OBJ file {}: {problem}", path.display()),
+        ));
     }
     let options = tobj::LoadOptions {
         triangulate: true,

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 /// Checks values of one scene file.
 pub(crate) struct Check {
     file: PathBuf,
+    warnings: std::cell::RefCell<Vec<String>>,
 }
 
 impl Check {
@@ -16,7 +17,22 @@ impl Check {
     pub fn new(file: &Path) -> Check {
         Check {
             file: file.to_path_buf(),
+            warnings: Default::default(),
         }
+    }
+
+    /// Records a warning about `field`: valid, but probably not what the user meant.
+    pub fn warn(&self, field: &str, message: impl Into<String>) {
+        self.warnings.borrow_mut().push(format!(
+            "{}: {field}: {}",
+            self.file.display(),
+            message.into()
+        ));
+    }
+
+    /// The warnings recorded so far.
+    pub fn take_warnings(&self) -> Vec<String> {
+        std::mem::take(&mut self.warnings.borrow_mut())
     }
 
     /// An error about `field`.

@@ -34,7 +34,7 @@ use super::validate::Check;
 use crate::color::Rgb;
 use crate::error::Result;
 use crate::medium::{GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium};
-use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid};
+use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid, VolumeError, MAX_VDB_BYTES};
 
 /// The fields of a `type = "vdb"` medium.
 #[derive(Debug, Deserialize)]
@@ -96,9 +96,94 @@ fn default_density_scale() -> f32 {
 /// Kelvin per unit of temperature-grid value when `temperature_scale` is absent.
 const DEFAULT_TEMPERATURE_SCALE: f32 = 1000.0;
 
-/// Loads grid `name` of `path`, turning a volume error into one that names the field.
-fn load(path: &Path, name: &str, field: &str, check: &Check) -> Result<FloatGrid> {
-    load_float_grid(path, name).map_err(|e| check.error(field, e.to_string()))
+/// Loads grid `name` of `path`, turning a volume error into one that names the
+/// field: the grid's field for a grid problem, `file_field` when the file
+/// itself cannot be read (not a VDB, damaged header).
+fn load(
+    path: &Path,
+    name: &str,
+    (file_field, field): (&str, &str),
+    check: &Check,
+) -> Result<FloatGrid> {
+    load_float_grid(path, name).map_err(|e| {
+        let culprit = match e {
+            VolumeError::Io { .. } | VolumeError::BadFile { .. } => file_field,
+            _ => field,
+        };
+        check.error(culprit, e.to_string())
+    })
+}
+
+/// Refuses a grid brume cannot render: NaN or infinite values (tracking
+/// against an infinite majorant never ends), values whose product with
+/// `scale` overflows f32, or no positive value at all (a level set given as
+/// a density renders as nothing); warns when some values are negative (they
+/// count as 0). `fields` are (the grid's field, the scale's field).
+fn check_values(
+    grid: &FloatGrid,
+    fields: (&str, &str),
+    scale: f32,
+    density: bool,
+    check: &Check,
+) -> Result<()> {
+    let c = check_finite(grid, fields, scale, check)?;
+    let name = grid.name();
+    if density && c.max_finite <= 0.0 && scale > 0.0 {
+        return Err(check.error(
+            fields.0,
+            format!(
+                "grid '{name}' has no positive value (values from {} to {}), so it renders as empty space; \
+                 a level set (signed distance) is not a density",
+                c.min_finite, c.max_finite
+            ),
+        ));
+    }
+    if c.negative > 0 {
+        check.warn(
+            fields.0,
+            format!(
+                "{} of the {} stored values of grid '{name}' are negative (down to {}); they count as 0",
+                c.negative, c.stored, c.min_finite
+            ),
+        );
+    }
+    Ok(())
+}
+
+/// Refuses NaN or infinite values and values whose product with `scale`
+/// overflows f32; returns the grid's value census.
+fn check_finite(
+    grid: &FloatGrid,
+    fields: (&str, &str),
+    scale: f32,
+    check: &Check,
+) -> Result<crate::volume::ValueCensus> {
+    let c = grid.value_census();
+    let name = grid.name();
+    if c.nonfinite() > 0 {
+        return Err(check.error(
+            fields.0,
+            format!(
+                "grid '{name}' holds {} non-finite values ({} NaN, {} +inf, {} -inf) among its {} stored values; \
+                 brume needs finite values (`brume info` counts them)",
+                c.nonfinite(),
+                c.nan,
+                c.pos_inf,
+                c.neg_inf,
+                c.stored
+            ),
+        ));
+    }
+    let largest = c.max_finite.abs().max(c.min_finite.abs());
+    if !(largest * scale).is_finite() {
+        return Err(check.error(
+            fields.1,
+            format!(
+                "{scale} times the largest value {largest:e} of grid '{name}' overflows single precision (above 3.4e38)"
+            ),
+        ));
+    }
+    Ok(c)
 }
 
 /// The grid medium of one `type = "vdb"` entry.
@@ -111,10 +196,10 @@ pub(crate) fn build_vdb_medium(
 ) -> Result<Medium> {
     let f = |name: &str| format!("{field}.{name}");
     let path = frame_file(&super::resolve(base, &desc.file), &f("file"), check, timing)?;
-    if !path.is_file() {
+    if let Some(problem) = crate::error::input_file_problem(&path, MAX_VDB_BYTES) {
         return Err(check.error(
             &f("file"),
-            format!("cannot read VDB file {}", path.display()),
+            format!("cannot read VDB file {}: {problem}", path.display()),
         ));
     }
     let density_scale = check.finite(&f("density_scale"), desc.density_scale)?;
@@ -140,14 +225,26 @@ pub(crate) fn build_vdb_medium(
         }
     };
     let motion = build_motion(desc, &path, field, check, timing)?;
-    let density = load(&path, &desc.grid, &f("grid"), check)?;
+    let density = load(&path, &desc.grid, (&f("file"), &f("grid")), check)?;
+    let peak = density_scale * sigma_t_scale.max_channel();
+    check_values(
+        &density,
+        (&f("grid"), &f("density_scale")),
+        peak,
+        true,
+        check,
+    )?;
+    let emission = build_emission(desc, &path, field, check)?;
+    if !matches!(emission, GridEmission::None) {
+        super::media::warn_inert_emission(field, (Rgb::WHITE - albedo) * sigma_t_scale, check);
+    }
     let params = GridMediumParams {
         to_world: build_transform(desc.transform.as_ref(), field, check)?,
         density_scale,
         sigma_t_scale,
         albedo,
         phase: build_phase(desc.phase.as_ref(), field, check)?,
-        emission: build_emission(desc, &path, field, check)?,
+        emission,
         majorant,
         cell_size: None,
     };
@@ -197,6 +294,15 @@ fn build_motion(
     };
     let velocity =
         load_vec3_grid(path, name).map_err(|e| check.error(&f("velocity_grid"), e.to_string()))?;
+    // velocities are signed: only non-finite and overflowing values are refused
+    for axis in 0..3 {
+        check_finite(
+            velocity.component(axis),
+            (&f("velocity_grid"), &f("velocity_scale")),
+            scale / timing.fps,
+            check,
+        )?;
+    }
     Ok(Some(GridMotion {
         velocity,
         scale: scale / timing.fps,
@@ -237,15 +343,40 @@ fn build_emission(desc: &VdbDesc, path: &Path, field: &str, check: &Check) -> Re
     let emission_scale = emission_scale.unwrap_or(Rgb::WHITE);
     if let Some(name) = &desc.temperature_grid {
         let scale = desc.temperature_scale.unwrap_or(DEFAULT_TEMPERATURE_SCALE);
+        let temperature = load(path, name, (&f("file"), &f("temperature_grid")), check)?;
+        let scale_field = match desc.temperature_scale {
+            Some(_) => f("temperature_scale"),
+            None => f("temperature_grid"),
+        };
+        let temperature_scale = check.positive(&f("temperature_scale"), scale)?;
+        check_values(
+            &temperature,
+            (&f("temperature_grid"), &scale_field),
+            temperature_scale,
+            false,
+            check,
+        )?;
         return Ok(GridEmission::Blackbody {
-            temperature: load(path, name, &f("temperature_grid"), check)?,
-            temperature_scale: check.positive(&f("temperature_scale"), scale)?,
+            temperature,
+            temperature_scale,
             emission_scale,
         });
     }
     if let Some(name) = &desc.emission_grid {
+        let grid = load(path, name, (&f("file"), &f("emission_grid")), check)?;
+        let scale_field = match desc.emission_scale {
+            Some(_) => f("emission_scale"),
+            None => f("emission_grid"),
+        };
+        check_values(
+            &grid,
+            (&f("emission_grid"), &scale_field),
+            emission_scale.max_channel(),
+            false,
+            check,
+        )?;
         return Ok(GridEmission::Grid {
-            grid: load(path, name, &f("emission_grid"), check)?,
+            grid,
             emission_scale,
         });
     }

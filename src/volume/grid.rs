@@ -1,7 +1,9 @@
 //! brume's sparse float grid: 8³ leaf bricks and constant tiles (8³, 128³ and
 //! 4096³ voxels a side, the three tile levels of an OpenVDB 5-4-3 tree),
 //! found through coordinate hash tables. Storage grows with the leaves and
-//! tiles, not with the bounding box.
+//! tiles, not with the bounding box; when the bricks fill their bounding box
+//! densely enough, a flat table over it (4 bytes per 8³ brick slot) replaces
+//! the hash lookup on the hot path.
 
 use glam::{DVec3, IVec3, Vec3};
 
@@ -13,6 +15,10 @@ use super::transform::GridTransform;
 pub(crate) const LEAF_VOXELS: usize = 512;
 /// Marks a brick-table entry that is a tile, not a leaf.
 const TILE_FLAG: u32 = 1 << 31;
+/// A slot of the flat brick table that holds no leaf and no 8³ tile.
+const NO_BRICK: u32 = u32::MAX;
+/// Largest flat brick table, in slots (64 MiB).
+const MAX_DENSE_SLOTS: usize = 1 << 24;
 
 /// A leaf brick or a tile of constant value, for building majorant grids.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,6 +31,50 @@ pub struct Block {
     pub min_value: f32,
     /// Largest value stored in the block (active or not).
     pub max_value: f32,
+}
+
+/// Counts of the values a grid's lookups can return (every leaf value, active
+/// or not, every stored tile and the background), by kind.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ValueCensus {
+    /// Values counted (leaf voxels, tiles and the background, each once).
+    pub stored: u64,
+    /// NaN values.
+    pub nan: u64,
+    /// +∞ values.
+    pub pos_inf: u64,
+    /// -∞ values.
+    pub neg_inf: u64,
+    /// Finite values below zero.
+    pub negative: u64,
+    /// Largest finite value (-∞ if none).
+    pub max_finite: f32,
+    /// Smallest finite value (+∞ if none).
+    pub min_finite: f32,
+}
+
+impl ValueCensus {
+    /// NaN and infinite values together.
+    pub fn nonfinite(&self) -> u64 {
+        self.nan + self.pos_inf + self.neg_inf
+    }
+
+    fn add(&mut self, v: f32) {
+        self.stored += 1;
+        if v.is_nan() {
+            self.nan += 1;
+        } else if v == f32::INFINITY {
+            self.pos_inf += 1;
+        } else if v == f32::NEG_INFINITY {
+            self.neg_inf += 1;
+        } else {
+            if v < 0.0 {
+                self.negative += 1;
+            }
+            self.max_finite = self.max_finite.max(v);
+            self.min_finite = self.min_finite.min(v);
+        }
+    }
 }
 
 /// A constant region of the tree.
@@ -66,6 +116,11 @@ pub struct FloatGrid {
     tiles: Vec<Tile>,
     /// key ijk >> 3: leaf index, or TILE_FLAG | tile index for 8³ tiles.
     bricks: CoordMap,
+    /// The same entries over the box of bricks `dense_lo + [0, dense_dims)`, x fastest
+    /// (`NO_BRICK` where `bricks` has none); empty when that box is too sparse.
+    dense: Vec<u32>,
+    dense_lo: IVec3,
+    dense_dims: IVec3,
     /// key ijk >> 7: tile index of 128³ tiles.
     mid_tiles: CoordMap,
     /// key ijk >> 12: tile index of 4096³ tiles.
@@ -115,7 +170,12 @@ impl GridBuilder {
                 return Err(dup(t.origin));
             }
         }
+        let (dense, dense_lo, dense_dims) =
+            dense_brick_table(&bricks, &self.leaf_origins, &self.tiles);
         let mut grid = FloatGrid {
+            dense,
+            dense_lo,
+            dense_dims,
             name: name.to_string(),
             background,
             transform,
@@ -136,7 +196,71 @@ impl GridBuilder {
     }
 }
 
+/// The flat brick table over the bounding box of the leaves and 8³ tiles, when it
+/// holds at most 8 slots per brick (or 64 Ki slots) and `MAX_DENSE_SLOTS` in all.
+fn dense_brick_table(
+    bricks: &CoordMap,
+    leaf_origins: &[IVec3],
+    tiles: &[Tile],
+) -> (Vec<u32>, IVec3, IVec3) {
+    let keys = leaf_origins
+        .iter()
+        .copied()
+        .chain(tiles.iter().filter(|t| t.log2 == 3).map(|t| t.origin))
+        .map(|o| o >> 3i32);
+    let (mut lo, mut hi, mut n) = (IVec3::MAX, IVec3::MIN, 0usize);
+    for k in keys {
+        lo = lo.min(k);
+        hi = hi.max(k);
+        n += 1;
+    }
+    if n == 0 {
+        return (Vec::new(), IVec3::ZERO, IVec3::ZERO);
+    }
+    let dims = (hi.as_i64vec3() - lo.as_i64vec3()) + glam::I64Vec3::ONE;
+    let slots = dims.x.saturating_mul(dims.y).saturating_mul(dims.z) as usize;
+    if slots > MAX_DENSE_SLOTS || slots > (8 * n).max(1 << 16) {
+        return (Vec::new(), IVec3::ZERO, IVec3::ZERO);
+    }
+    let dims = dims.as_ivec3();
+    let mut table = vec![NO_BRICK; slots];
+    for z in 0..dims.z {
+        for y in 0..dims.y {
+            for x in 0..dims.x {
+                if let Some(e) = bricks.get(lo + IVec3::new(x, y, z)) {
+                    table[(x + dims.x * (y + dims.y * z)) as usize] = e;
+                }
+            }
+        }
+    }
+    (table, lo, dims)
+}
+
+/// ⌊x⌋ as an integer for |x| < 2³¹ (no libm call).
+#[inline]
+fn floor_i32(x: Vec3) -> IVec3 {
+    let t = x.as_ivec3();
+    t - IVec3::select(t.as_vec3().cmpgt(x), IVec3::ONE, IVec3::ZERO)
+}
+
 impl FloatGrid {
+    /// The brick-table entry of brick `b` (= ijk >> 3): leaf index or TILE_FLAG | tile index.
+    #[inline]
+    fn brick(&self, b: IVec3) -> Option<u32> {
+        if self.dense.is_empty() {
+            return self.bricks.get(b);
+        }
+        let d = b - self.dense_lo;
+        if (d.cmpge(IVec3::ZERO) & d.cmplt(self.dense_dims)).all() {
+            let e =
+                self.dense[(d.x + self.dense_dims.x * (d.y + self.dense_dims.y * d.z)) as usize];
+            (e != NO_BRICK).then_some(e)
+        } else {
+            // The table covers every brick: outside it there are only coarse tiles.
+            None
+        }
+    }
+
     fn compute_statistics(&mut self) {
         let mut count = 0u64;
         let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
@@ -226,6 +350,19 @@ impl FloatGrid {
         sum
     }
 
+    /// NaN, infinite and negative counts over every value a lookup can return.
+    pub fn value_census(&self) -> ValueCensus {
+        let mut c = ValueCensus {
+            max_finite: f32::NEG_INFINITY,
+            min_finite: f32::INFINITY,
+            ..ValueCensus::default()
+        };
+        self.leaf_values.iter().for_each(|&v| c.add(v));
+        self.tiles.iter().for_each(|t| c.add(t.value));
+        c.add(self.background);
+        c
+    }
+
     /// Number of 8³ leaf bricks.
     pub fn leaf_count(&self) -> usize {
         self.leaf_origins.len()
@@ -246,6 +383,7 @@ impl FloatGrid {
             + self.leaf_ranges.capacity() * 8
             + self.tiles.capacity() * std::mem::size_of::<Tile>()
             + self.bricks.memory_bytes()
+            + self.dense.capacity() * 4
             + self.mid_tiles.memory_bytes()
             + self.root_tiles.memory_bytes()
     }
@@ -275,7 +413,7 @@ impl FloatGrid {
     /// leaf value, else tile value, else the background.
     #[inline]
     pub fn value(&self, ijk: IVec3) -> f32 {
-        match self.bricks.get(ijk >> 3) {
+        match self.brick(ijk >> 3) {
             Some(e) if e & TILE_FLAG == 0 => {
                 self.leaf_values[e as usize * LEAF_VOXELS + leaf_offset(ijk)]
             }
@@ -286,7 +424,7 @@ impl FloatGrid {
 
     /// Whether a voxel is active (in a leaf's active mask or an active tile).
     pub fn is_active(&self, ijk: IVec3) -> bool {
-        match self.bricks.get(ijk >> 3) {
+        match self.brick(ijk >> 3) {
             Some(e) if e & TILE_FLAG == 0 => {
                 let n = leaf_offset(ijk);
                 self.leaf_masks[e as usize][n >> 6] >> (n & 63) & 1 == 1
@@ -313,9 +451,45 @@ impl FloatGrid {
 
     /// Trilinear interpolation at an index-space point (voxel centres at
     /// integer ijk), as OpenVDB's BoxSampler.
+    ///
+    /// The same value as [`Self::trilinear_index_f64`] to the bit (the same
+    /// f64 weights and roundings); when the eight corners share one brick (7
+    /// points in 8 per axis) it takes one table lookup and reads the leaf
+    /// directly.
     #[inline]
     pub fn trilinear_index(&self, p: Vec3) -> f32 {
-        self.trilinear_index_f64(p.as_dvec3())
+        if p.is_nan() {
+            return self.trilinear_index_f64(p.as_dvec3());
+        }
+        let p = p.clamp(Vec3::splat(-1.0e9), Vec3::splat(1.0e9));
+        let i = floor_i32(p);
+        if (i & 7).cmpeq(IVec3::splat(7)).any() {
+            return self.trilinear_index_f64(p.as_dvec3());
+        }
+        let w = p.as_dvec3() - i.as_dvec3();
+        match self.brick(i >> 3i32) {
+            Some(e) if e & TILE_FLAG == 0 => {
+                let base = e as usize * LEAF_VOXELS + leaf_offset(i);
+                let v = &self.leaf_values[base..base + 74];
+                let yz = |o: usize| {
+                    lerp(
+                        lerp(v[o], v[o + 1], w.z),
+                        lerp(v[o + 8], v[o + 9], w.z),
+                        w.y,
+                    )
+                };
+                lerp(yz(0), yz(64), w.x)
+            }
+            // Eight equal corners c: every lerp gives c (NaN for an infinite c, as nested).
+            Some(e) => {
+                let c = self.tiles[(e & !TILE_FLAG) as usize].value;
+                lerp(c, c, w.x)
+            }
+            None => {
+                let c = self.coarse_value(i);
+                lerp(c, c, w.x)
+            }
+        }
     }
 
     /// Trilinear interpolation at a world-space point.
@@ -337,9 +511,7 @@ impl FloatGrid {
         for (bx, ex) in entries.iter_mut().enumerate().take(span.x as usize) {
             for (by, ey) in ex.iter_mut().enumerate().take(span.y as usize) {
                 for (bz, ez) in ey.iter_mut().enumerate().take(span.z as usize) {
-                    *ez = self
-                        .bricks
-                        .get(b + IVec3::new(bx as i32, by as i32, bz as i32));
+                    *ez = self.brick(b + IVec3::new(bx as i32, by as i32, bz as i32));
                 }
             }
         }
@@ -372,5 +544,60 @@ impl FloatGrid {
     /// The nearest voxel's value at an index-space point (OpenVDB PointSampler: floor(p + 0.5)).
     pub fn nearest_index(&self, p: DVec3) -> f32 {
         self.value((p + DVec3::splat(0.5)).floor().as_ivec3())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::GridTransform;
+
+    fn hash(i: u64) -> f32 {
+        (crate::sampling::mix64(i) >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// A noisy grid with a negative origin, and one with the flat table refused (too sparse).
+    fn grids() -> Vec<FloatGrid> {
+        let t = GridTransform::scale_translate("ScaleMap", DVec3::ONE, DVec3::ZERO).unwrap();
+        let dims = IVec3::new(37, 20, 29);
+        let n = (dims.x * dims.y * dims.z) as u64;
+        let values: Vec<f32> = (0..n).map(|i| 3.0 * hash(i) - 0.5).collect();
+        let dense =
+            FloatGrid::from_dense("noise", IVec3::new(-5, 3, -11), dims, &values, t.clone())
+                .unwrap();
+        assert!(!dense.dense.is_empty());
+        let mut sparse = dense.clone();
+        sparse.dense = Vec::new();
+        vec![dense, sparse]
+    }
+
+    /// The fast path and the flat table return exactly what the hash-table path does.
+    #[test]
+    fn fast_trilinear_matches_the_hash_table_path_bit_for_bit() {
+        let g = grids();
+        let same = |p: Vec3| {
+            let reference = g[1].trilinear_index_f64(p.as_dvec3());
+            for v in [
+                g[0].trilinear_index(p),
+                g[1].trilinear_index(p),
+                g[0].trilinear_index_f64(p.as_dvec3()),
+            ] {
+                assert!(
+                    v.to_bits() == reference.to_bits() || v.is_nan() && reference.is_nan(),
+                    "at {p}: {v} vs {reference}"
+                );
+            }
+        };
+        for i in 0..200_000u64 {
+            let u = Vec3::new(hash(3 * i), hash(3 * i + 1), hash(3 * i + 2));
+            same(Vec3::new(-9.0, -1.0, -15.0) + u * Vec3::new(47.0, 30.0, 39.0));
+        }
+        for p in [
+            Vec3::splat(-0.25),
+            Vec3::new(-1e-12, 7.0, 1e9),
+            Vec3::splat(f32::NAN),
+        ] {
+            same(p);
+        }
     }
 }

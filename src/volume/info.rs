@@ -75,9 +75,10 @@ fn grid_json(file: &VdbFile, d: &super::GridDescriptor) -> Value {
                 bytes: grid.memory_bytes(),
             };
             facts.write(&mut g);
-            g["background"] = json!(grid.background());
+            g["background"] = num(grid.background());
             let (lo, hi) = grid.value_range();
-            g["value_range"] = json!([lo, hi]);
+            g["value_range"] = json!([num(lo), num(hi)]);
+            write_census(&mut g, &[grid.value_census()]);
         }
         Ok(AnyGrid::Vec3(grid)) => {
             let facts = Facts {
@@ -89,10 +90,12 @@ fn grid_json(file: &VdbFile, d: &super::GridDescriptor) -> Value {
                 bytes: grid.memory_bytes(),
             };
             facts.write(&mut g);
-            g["background"] = json!(grid.background().to_array());
+            g["background"] = json!(grid.background().to_array().map(num));
             let ranges = grid.component_ranges();
-            g["component_ranges"] = json!(ranges.map(|(lo, hi)| [lo, hi]));
-            g["max_abs_lookup"] = json!(grid.max_abs_lookup().to_array());
+            g["component_ranges"] = json!(ranges.map(|(lo, hi)| [num(lo), num(hi)]));
+            g["max_abs_lookup"] = json!(grid.max_abs_lookup().to_array().map(num));
+            let census = [0, 1, 2].map(|axis| grid.component(axis).value_census());
+            write_census(&mut g, &census);
         }
     }
     g
@@ -128,6 +131,32 @@ impl Facts<'_> {
         }
         g["memory_bytes"] = json!(self.bytes);
         g["bytes_per_active_voxel"] = json!(self.bytes as f64 / self.active.max(1) as f64);
+    }
+}
+
+/// Value counts (summed over a vec3 grid's components): stored, NaN, infinite, negative.
+fn write_census(g: &mut Value, census: &[super::ValueCensus]) {
+    let sum = |f: fn(&super::ValueCensus) -> u64| census.iter().map(f).sum::<u64>();
+    g["stored_values"] = json!(sum(|c| c.stored));
+    g["nan_values"] = json!(sum(|c| c.nan));
+    g["infinite_values"] = json!(sum(|c| c.pos_inf + c.neg_inf));
+    g["negative_values"] = json!(sum(|c| c.negative));
+}
+
+/// A number, or its name ("inf", "-inf", "NaN") where JSON has none (it would print null).
+fn num(v: f32) -> Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        json!(v.to_string())
+    }
+}
+
+/// A JSON value as text, strings without their quotes.
+fn plain(v: &Value) -> String {
+    match v.as_str() {
+        Some(s) => s.to_string(),
+        None => v.to_string(),
     }
 }
 
@@ -187,7 +216,7 @@ fn render_text(r: &Value) -> String {
         for row in t["index_to_world"].as_array().into_iter().flatten() {
             let _ = writeln!(s, "    {}", v(row));
         }
-        let _ = writeln!(s, "  background: {}", v(&g["background"]));
+        let _ = writeln!(s, "  background: {}", plain(&g["background"]));
         let _ = writeln!(s, "  active voxels: {}", g["active_voxel_count"]);
         let _ = writeln!(
             s,
@@ -205,11 +234,16 @@ fn render_text(r: &Value) -> String {
             }
         }
         if let Some(r) = g.get("value_range") {
-            let _ = writeln!(s, "  value range: {} .. {}", r[0], r[1]);
+            let _ = writeln!(s, "  value range: {} .. {}", plain(&r[0]), plain(&r[1]));
         }
         if let Some(r) = g["component_ranges"].as_array() {
             for (axis, range) in ["x", "y", "z"].iter().zip(r) {
-                let _ = writeln!(s, "  {axis} range: {} .. {}", range[0], range[1]);
+                let _ = writeln!(
+                    s,
+                    "  {axis} range: {} .. {}",
+                    plain(&range[0]),
+                    plain(&range[1])
+                );
             }
             let _ = writeln!(
                 s,
@@ -217,6 +251,11 @@ fn render_text(r: &Value) -> String {
                 v(&g["max_abs_lookup"])
             );
         }
+        let _ = writeln!(
+            s,
+            "  stored values: {}, NaN: {}, infinite: {}, negative: {}",
+            g["stored_values"], g["nan_values"], g["infinite_values"], g["negative_values"]
+        );
         let _ = writeln!(
             s,
             "  memory: {} bytes ({:.2} bytes per active voxel)",

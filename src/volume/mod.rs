@@ -54,7 +54,7 @@ mod vec3;
 use std::path::{Path, PathBuf};
 
 pub use error::VolumeError;
-pub use grid::{Block, FloatGrid};
+pub use grid::{Block, FloatGrid, ValueCensus};
 pub use info::info_report;
 pub use transform::GridTransform;
 pub use vec3::Vec3Grid;
@@ -88,6 +88,9 @@ pub struct VdbFile {
     grids: Vec<Descriptor>,
 }
 
+/// Largest VDB file read (it is held in memory whole).
+pub const MAX_VDB_BYTES: u64 = 64 << 30;
+
 /// Loads one float grid from a file.
 pub fn load_float_grid(path: &Path, name: &str) -> Result<FloatGrid, VolumeError> {
     VdbFile::open(path)?.load_float_grid(name)
@@ -109,11 +112,28 @@ pub enum AnyGrid {
 
 impl VdbFile {
     /// Reads a file's header and grid descriptors (all grids, supported or not).
+    ///
+    /// Refuses what is not a regular file (a FIFO would block, /dev/zero never
+    /// ends) and files larger than [`MAX_VDB_BYTES`] or than the memory this
+    /// machine can give, before reading a byte.
     pub fn open(path: &Path) -> Result<VdbFile, VolumeError> {
-        let data = std::fs::read(path).map_err(|source| VolumeError::Io {
+        let io = |source| VolumeError::Io {
             path: path.to_path_buf(),
             source,
-        })?;
+        };
+        if let Some(problem) = crate::error::input_file_problem(path, MAX_VDB_BYTES) {
+            return Err(io(std::io::Error::other(problem)));
+        }
+        let mut file = std::fs::File::open(path).map_err(io)?;
+        let len = file.metadata().map_err(io)?.len() as usize;
+        let mut data = Vec::new();
+        if data.try_reserve_exact(len).is_err() {
+            return Err(io(std::io::Error::other(format!(
+                "is {:.1} GB, more than this machine's memory can hold",
+                len as f64 / 1e9
+            ))));
+        }
+        std::io::Read::read_to_end(&mut file, &mut data).map_err(io)?;
         VdbFile::from_bytes(path, data)
     }
 

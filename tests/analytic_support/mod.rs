@@ -6,20 +6,15 @@
 pub mod common;
 
 #[allow(unused_imports)]
-pub use common::{scene_from_str, Accumulator, Estimate};
+pub use common::{
+    assert_estimate, assert_same, assert_within, k_sigma, scene_from_str, Accumulator, Estimate,
+};
 
 use brume::color::Rgb;
 use brume::integrator::li;
 use brume::integrator::Scene;
 use brume::math::Ray;
 use brume::sampling::Sampler;
-
-/// How many standard errors an estimate may stray from its closed form.
-///
-/// Two-sided p ≈ 6e-7 per channel: a suite of a few hundred checks trips by
-/// chance far less than once in a thousand runs (and never, with fixed seeds,
-/// once it has passed).
-pub const K_SIGMA: f64 = 5.0;
 
 /// Mean and standard error of `n` independent draws of `f`, each with its own stream.
 pub fn estimate(n: usize, seed: u64, mut f: impl FnMut(&mut Sampler) -> Rgb) -> Estimate {
@@ -34,24 +29,6 @@ pub fn estimate(n: usize, seed: u64, mut f: impl FnMut(&mut Sampler) -> Rgb) -> 
 /// Radiance estimate along `ray` through `li`.
 pub fn estimate_li(scene: &Scene, ray: Ray, n: usize, seed: u64) -> Estimate {
     estimate(n, seed, |s| li(scene, ray, s))
-}
-
-/// Asserts every channel of `est` equals `expected` within `K_SIGMA` standard
-/// errors; an estimator with zero variance must match to f32 rounding
-/// (relative 2e-5).
-pub fn assert_estimate(est: &Estimate, expected: [f64; 3], what: &str) {
-    for c in 0..3 {
-        let tol = K_SIGMA * est.std_error[c] + 2e-5 * expected[c].abs().max(1e-3);
-        assert!(
-            (est.mean[c] - expected[c]).abs() <= tol,
-            "{what}: channel {c}: {} ± {} (n = {}) vs closed form {} (off by {:.2} σ)",
-            est.mean[c],
-            est.std_error[c],
-            est.n,
-            expected[c],
-            (est.mean[c] - expected[c]) / est.std_error[c].max(1e-300),
-        );
-    }
 }
 
 /// Henyey–Greenstein in f64 for cos θ between propagation directions.

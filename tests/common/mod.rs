@@ -1,5 +1,6 @@
-//! Helpers shared by the integration tests: scenes from TOML text and
-//! per-pixel Monte Carlo statistics.
+//! Helpers shared by the integration tests: scenes from TOML text,
+//! per-pixel Monte Carlo estimates, the one statistical assertion (`stats`)
+//! and where the test files are (`data`).
 #![allow(dead_code, clippy::needless_range_loop)]
 
 use brume::color::Rgb;
@@ -7,6 +8,14 @@ use brume::integrator::{li, Scene};
 use brume::math::Ray;
 use brume::sampling::Sampler;
 use std::path::Path;
+
+pub mod data;
+pub mod stats;
+
+#[allow(unused_imports)]
+pub use stats::{
+    assert_estimate, assert_pixels, assert_pixels_equal, assert_same, assert_within, k_sigma,
+};
 
 /// Builds a scene from TOML text as if it were the file `test.toml` in the crate root.
 pub fn scene_from_str(text: &str) -> Scene {
@@ -99,49 +108,11 @@ pub fn estimate_pixels(scene: &Scene, spp: usize) -> Vec<Estimate> {
         for x in 0..w {
             let mut acc = Accumulator::default();
             for s in 0..spp {
-                let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
-                let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
-                acc.add(li(scene, ray, &mut sampler));
+                // the render's own sample: camera ray, shutter time, path
+                acc.add(brume::render::pixel_sample(scene, x, y, s as u32));
             }
             out.push(acc.estimate());
         }
     }
     out
-}
-
-/// Asserts every pixel and the image mean equal `expected` within k standard errors.
-///
-/// Per pixel k = 5 (two-sided p ≈ 6e-7, so a few hundred pixels rarely
-/// trip by chance); for the pooled mean k = 4. A pixel whose samples are
-/// all equal has zero error and must then match to rounding.
-pub fn assert_pixels_equal(pixels: &[Estimate], expected: [f64; 3], what: &str) {
-    let mut total = Accumulator::default();
-    for (i, p) in pixels.iter().enumerate() {
-        for c in 0..3 {
-            let tol = 5.0 * p.std_error[c] + 1e-5 * expected[c].abs().max(1.0);
-            assert!(
-                (p.mean[c] - expected[c]).abs() <= tol,
-                "{what}: pixel {i} channel {c}: {} ± {} vs {}",
-                p.mean[c],
-                p.std_error[c],
-                expected[c]
-            );
-        }
-        total.add(Rgb::new(
-            p.mean[0] as f32,
-            p.mean[1] as f32,
-            p.mean[2] as f32,
-        ));
-    }
-    let pooled = total.estimate();
-    for c in 0..3 {
-        let tol = 4.0 * pooled.std_error[c] + 1e-5 * expected[c].abs().max(1.0);
-        assert!(
-            (pooled.mean[c] - expected[c]).abs() <= tol,
-            "{what}: image mean channel {c}: {} ± {} vs {}",
-            pooled.mean[c],
-            pooled.std_error[c],
-            expected[c]
-        );
-    }
 }

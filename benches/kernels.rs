@@ -1,0 +1,202 @@
+//! The hot kernels of the bench scenes (scenes/bench), one criterion group each:
+//! BVH closest-hit and shadow rays (rays/s), trilinear lookup (lookups/s), the
+//! majorant DDA (cells/s), each transmittance estimator and free-flight
+//! sampling (rays/s): `cargo bench --bench kernels`.
+
+use std::hint::black_box;
+use std::path::Path;
+use std::time::Duration;
+
+use brume::color::Rgb;
+use brume::integrator::tracking::{
+    delta_tracking_transmittance, medium_transmittance, ratio_tracking, residual_ratio_tracking,
+    sample_free_flight, TransmittanceEstimator,
+};
+use brume::integrator::Scene;
+use brume::math::{Ray, Vec3};
+use brume::medium::Medium;
+use brume::sampling::Sampler;
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+
+/// Rays per iteration of every benchmark.
+const RAYS: usize = 1024;
+
+fn scene(file: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/bench")
+        .join(file);
+    brume::scene::load(&path).expect("bench scene")
+}
+
+/// Camera rays through a 32×32 grid of pixels spread over the image.
+fn camera_rays(scene: &Scene) -> Vec<Ray> {
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let mut sampler = Sampler::from_seed(0x5eed);
+    (0..RAYS as u32)
+        .map(|k| {
+            let (x, y) = ((k % 32) * w / 32, (k / 32) * h / 32);
+            scene.camera.generate_ray(x, y, sampler.next_2d())
+        })
+        .collect()
+}
+
+fn bvh(c: &mut Criterion) {
+    let s = scene("b4_airlight_fog.toml");
+    let rays = camera_rays(&s);
+    // Shadow rays from the first hits toward the sun (against its travel direction).
+    let to_sun = -Vec3::new(0.4, -0.7, -0.6).normalize();
+    let shadows: Vec<Ray> = rays
+        .iter()
+        .filter_map(|r| s.geometry.intersect(r, f32::INFINITY))
+        .map(|h| Ray::new(h.p + 1e-3 * h.geometric_normal, to_sun))
+        .collect();
+    let mut g = c.benchmark_group("bvh b4");
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    g.bench_function("closest hit", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| s.geometry.intersect(r, f32::INFINITY).is_some())
+                .count()
+        })
+    });
+    g.throughput(Throughput::Elements(shadows.len() as u64));
+    g.bench_function("shadow rays", |b| {
+        b.iter(|| {
+            shadows
+                .iter()
+                .filter(|r| s.geometry.occluded(r, f32::INFINITY))
+                .count()
+        })
+    });
+    g.finish();
+}
+
+/// The smoke of B3 and rays through it: camera rays that meet its box.
+fn smoke() -> (Scene, Vec<Ray>) {
+    let s = scene("b3_vdb_smoke.toml");
+    let rays = camera_rays(&s)
+        .into_iter()
+        .filter(|r| s.media[0].majorants(r, f32::INFINITY).next().is_some())
+        .collect();
+    (s, rays)
+}
+
+fn lookups(c: &mut Criterion) {
+    let (s, rays) = smoke();
+    let Medium::Grid(m) = &s.media[0] else {
+        panic!("B3 has a grid medium")
+    };
+    // Points along the rays, as tracking visits them.
+    let points: Vec<Vec3> = rays
+        .iter()
+        .flat_map(|r| (0..16).map(move |k| r.at(3.0 + 0.1 * k as f32)))
+        .collect();
+    let mut g = c.benchmark_group("grid b3");
+    g.throughput(Throughput::Elements(points.len() as u64));
+    g.bench_function("trilinear density", |b| {
+        b.iter(|| points.iter().map(|&p| m.density(black_box(p))).sum::<f32>())
+    });
+    let cells: usize = rays
+        .iter()
+        .map(|r| s.media[0].majorants(r, f32::INFINITY).count())
+        .sum();
+    g.throughput(Throughput::Elements(cells as u64));
+    g.bench_function("majorant dda steps", |b| {
+        b.iter(|| {
+            rays.iter()
+                .map(|r| s.media[0].majorants(black_box(r), f32::INFINITY).count())
+                .sum::<usize>()
+        })
+    });
+    g.finish();
+}
+
+type Estimator = fn(&Medium, &Ray, f32, &mut Sampler) -> Rgb;
+
+fn estimators(c: &mut Criterion) {
+    let (s, rays) = smoke();
+    let medium = &s.media[0];
+    let mut g = c.benchmark_group("transmittance b3");
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    let list: [(&str, Estimator); 3] = [
+        ("ratio", ratio_tracking),
+        ("residual ratio", residual_ratio_tracking),
+        ("delta", delta_tracking_transmittance),
+    ];
+    for (name, f) in list {
+        let mut pass = 0u64;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                pass += 1;
+                let mut sampler = Sampler::new(1, 0, 0, pass);
+                rays.iter()
+                    .map(|r| f(medium, r, f32::INFINITY, &mut sampler).r)
+                    .sum::<f32>()
+            })
+        });
+    }
+    g.finish();
+    let fog = scene("b4_airlight_fog.toml");
+    let fog_rays = camera_rays(&fog);
+    let mut g = c.benchmark_group("transmittance b4");
+    g.throughput(Throughput::Elements(fog_rays.len() as u64));
+    g.bench_function("closed form", |b| {
+        let mut sampler = Sampler::new(1, 0, 0, 0);
+        b.iter(|| {
+            fog_rays
+                .iter()
+                .map(|r| {
+                    let m = &fog.media[0];
+                    medium_transmittance(m, r, 50.0, TransmittanceEstimator::Auto, &mut sampler).r
+                })
+                .sum::<f32>()
+        })
+    });
+    g.finish();
+}
+
+fn free_flight(c: &mut Criterion) {
+    let (s, rays) = smoke();
+    let fog = scene("b4_airlight_fog.toml");
+    let fog_rays = camera_rays(&fog);
+    let mut g = c.benchmark_group("free flight");
+    for (name, media, rays) in [
+        ("b3 smoke", &s.media, &rays),
+        ("b4 fog", &fog.media, &fog_rays),
+    ] {
+        g.throughput(Throughput::Elements(rays.len() as u64));
+        let mut pass = 0u64;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                pass += 1;
+                let mut sampler = Sampler::new(2, 0, 0, pass);
+                let mut scattered = 0usize;
+                for r in rays.iter() {
+                    let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+                    let e = sample_free_flight(
+                        media,
+                        r,
+                        f32::INFINITY,
+                        &mut beta,
+                        &mut radiance,
+                        &mut sampler,
+                    );
+                    scattered +=
+                        matches!(e, brume::integrator::tracking::FreeFlight::Scatter { .. })
+                            as usize;
+                }
+                scattered
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    targets = bvh, lookups, estimators, free_flight
+}
+criterion_main!(benches);

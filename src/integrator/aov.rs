@@ -1,0 +1,225 @@
+//! First-vertex AOVs (arbitrary output variables) for compositing and
+//! denoising, estimated beside the beauty with random streams of their own.
+//!
+//! A camera sample takes the same camera ray as the beauty sample of the same
+//! (pixel, sample index) — the first two dimensions of the beauty stream —
+//! and every further random number from a separate stream, so the beauty is
+//! bit-identical with or without AOVs.
+//!
+//! | AOV | EXR channels | per sample |
+//! | --- | --- | --- |
+//! | `alpha` | `A` | 1 at a surface; else 1 − T(camera ray to infinity), the channel mean |
+//! | `depth` | `depth.Z` | camera-space depth (along the optical axis) of the first vertex |
+//! | `normal` | `normal.X/Y/Z` | world-space shading normal facing the camera; `−ray direction` at a medium scattering vertex |
+//! | `albedo` | `albedo.R/G/B` | throughput × reflectance at the first surface; the free-flight throughput σs-weighted at a medium vertex |
+//! | `transmittance` | `transmittance.R/G/B` | T of the camera ray up to its first surface (or to infinity) |
+//!
+//! At a medium vertex the albedo is the spectral-tracking throughput after
+//! the scattering event, whose mean over the camera ray is
+//! ∫ T(t) σs(t) dt (+ T(t_s)·ρ for the surface behind): for a thick
+//! homogeneous medium, the single-scattering albedo σs/σt, as Cycles defines
+//! its volume denoising albedo. A sample that escapes has normal and albedo
+//! 0 and no depth; a pixel whose samples all escape has depth +∞.
+
+use super::tracking::{sample_free_flight, FreeFlight};
+use super::Scene;
+use crate::color::Rgb;
+use crate::material::Material;
+use crate::math::{Ray, Vec3};
+use crate::sampling::Sampler;
+
+/// An output beside the beauty.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Aov {
+    /// Coverage: 1 − transmittance of the camera ray to the background.
+    Alpha,
+    /// Camera-space depth of the first vertex.
+    Depth,
+    /// Shading normal at the first vertex.
+    Normal,
+    /// Albedo × throughput at the first vertex.
+    Albedo,
+    /// Transmittance of the camera ray to its first surface.
+    Transmittance,
+}
+
+impl Aov {
+    /// Every AOV, in the order the names are documented.
+    pub const ALL: [Aov; 5] = [
+        Aov::Alpha,
+        Aov::Depth,
+        Aov::Normal,
+        Aov::Albedo,
+        Aov::Transmittance,
+    ];
+
+    /// The AOV called `name` in scene files and on the command line.
+    pub fn from_name(name: &str) -> Option<Aov> {
+        Aov::ALL.into_iter().find(|a| a.name() == name)
+    }
+
+    /// Its name in scene files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Aov::Alpha => "alpha",
+            Aov::Depth => "depth",
+            Aov::Normal => "normal",
+            Aov::Albedo => "albedo",
+            Aov::Transmittance => "transmittance",
+        }
+    }
+
+    /// Its EXR channel names (OpenEXR layer naming).
+    pub fn channels(self) -> &'static [&'static str] {
+        match self {
+            Aov::Alpha => &["A"],
+            Aov::Depth => &["depth.Z"],
+            Aov::Normal => &["normal.X", "normal.Y", "normal.Z"],
+            Aov::Albedo => &["albedo.R", "albedo.G", "albedo.B"],
+            Aov::Transmittance => &["transmittance.R", "transmittance.G", "transmittance.B"],
+        }
+    }
+}
+
+/// What one camera sample sees at its first vertex.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AovSample {
+    /// 1 − transmittance to the background (1 at a surface).
+    pub alpha: f32,
+    /// Camera-space depth of the first vertex, if there is one.
+    pub depth: Option<f32>,
+    /// Normal at the first vertex (0 when there is none).
+    pub normal: Vec3,
+    /// Albedo × throughput at the first vertex.
+    pub albedo: Rgb,
+    /// Transmittance of the camera ray to its first surface.
+    pub transmittance: Rgb,
+}
+
+/// Mixed into the scene seed to key the AOV streams apart from the beauty's.
+const AOV_STREAM_KEY: u64 = 0x414F_565F_5354_524D;
+
+/// The AOVs of sample `s` of pixel (x, y): the beauty's camera ray, the AOV stream.
+pub fn aov_sample(scene: &Scene, x: u32, y: u32, s: u32) -> AovSample {
+    let seed = scene.settings.seed;
+    // The beauty's first two dimensions choose its camera ray (see render::pixel_sample).
+    let mut beauty = Sampler::new(seed, x, y, s as u64);
+    let ray = scene.camera.generate_ray(x, y, beauty.next_2d());
+    let mut sampler = Sampler::new(seed ^ AOV_STREAM_KEY, x, y, s as u64);
+    first_vertex(scene, &ray, &mut sampler)
+}
+
+/// Reflectance of a surface for the albedo AOV.
+fn reflectance(material: &Material) -> Rgb {
+    match *material {
+        Material::Diffuse { albedo } | Material::Phong { albedo, .. } => albedo,
+        Material::Mirror { reflectance } => reflectance,
+        // Clear glass transmits or reflects everything: white, as denoisers expect.
+        Material::Dielectric { .. } => Rgb::WHITE,
+        Material::Conductor { fresnel, .. } => fresnel.eval(1.0),
+    }
+}
+
+fn first_vertex(scene: &Scene, ray: &Ray, sampler: &mut Sampler) -> AovSample {
+    let hit = scene.geometry.intersect(ray, f32::INFINITY);
+    let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
+    let transmittance = scene.transmittance(ray, t_surface, sampler);
+    let alpha = if hit.is_some() {
+        1.0
+    } else {
+        1.0 - transmittance.average()
+    };
+    let forward = scene.camera.forward();
+    let mut out = AovSample {
+        alpha,
+        depth: None,
+        normal: Vec3::ZERO,
+        albedo: Rgb::BLACK,
+        transmittance,
+    };
+    let mut throughput = Rgb::WHITE;
+    if !scene.media.is_empty() {
+        // Emission is not an AOV: the radiance this adds is dropped.
+        let mut radiance = Rgb::BLACK;
+        let event = sample_free_flight(
+            &scene.media,
+            ray,
+            t_surface,
+            &mut throughput,
+            &mut radiance,
+            sampler,
+        );
+        match event {
+            FreeFlight::Absorbed => return out,
+            FreeFlight::Passed => {}
+            FreeFlight::Scatter { t, .. } => {
+                out.depth = Some(t * ray.direction.dot(forward));
+                out.normal = -ray.direction;
+                out.albedo = throughput;
+                return out;
+            }
+        }
+    }
+    if let Some(hit) = hit {
+        let wo = -ray.direction;
+        out.depth = Some(hit.t * ray.direction.dot(forward));
+        out.normal = if hit.shading_normal.dot(wo) >= 0.0 {
+            hit.shading_normal
+        } else {
+            -hit.shading_normal
+        };
+        out.albedo = throughput * reflectance(&scene.shape_materials[hit.shape as usize]);
+    }
+    out
+}
+
+/// Running per-pixel sums of AOV samples.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AovPixel {
+    alpha: f64,
+    depth: f64,
+    depth_hits: u32,
+    normal: [f64; 3],
+    albedo: [f64; 3],
+    transmittance: [f64; 3],
+    count: u32,
+}
+
+impl AovPixel {
+    /// Adds one sample; a sample with a non-finite value is left out whole.
+    pub fn add(&mut self, s: &AovSample) {
+        let finite = s.alpha.is_finite()
+            && s.depth.is_none_or(f32::is_finite)
+            && s.normal.is_finite()
+            && s.albedo.is_finite()
+            && s.transmittance.is_finite();
+        if !finite {
+            return;
+        }
+        self.alpha += s.alpha as f64;
+        if let Some(d) = s.depth {
+            self.depth += d as f64;
+            self.depth_hits += 1;
+        }
+        for c in 0..3 {
+            self.normal[c] += s.normal[c] as f64;
+            self.albedo[c] += s.albedo[c] as f64;
+            self.transmittance[c] += s.transmittance[c] as f64;
+        }
+        self.count += 1;
+    }
+
+    /// The pixel's value of `aov`, one entry per channel of `aov.channels()`.
+    pub fn value(&self, aov: Aov, out: &mut Vec<f32>) {
+        let n = self.count.max(1) as f64;
+        let mean3 = |v: &[f64; 3], out: &mut Vec<f32>| out.extend(v.iter().map(|x| (x / n) as f32));
+        match aov {
+            Aov::Alpha => out.push((self.alpha / n) as f32),
+            Aov::Depth if self.depth_hits == 0 => out.push(f32::INFINITY),
+            Aov::Depth => out.push((self.depth / self.depth_hits as f64) as f32),
+            Aov::Normal => mean3(&self.normal, out),
+            Aov::Albedo => mean3(&self.albedo, out),
+            Aov::Transmittance => mean3(&self.transmittance, out),
+        }
+    }
+}

@@ -1,0 +1,86 @@
+//! Building the microfacet and dielectric materials of `material = { ... }`.
+
+use super::description::Color;
+use super::validate::Check;
+use crate::error::Result;
+use crate::material::{ConductorFresnel, Material, MIN_ALPHA};
+
+/// A GGX α: 0 for a smooth surface, else in [MIN_ALPHA, 1].
+fn alpha(check: &Check, field: &str, a: f32) -> Result<f32> {
+    let a = check.finite(field, a)?;
+    if a == 0.0 || (MIN_ALPHA..=1.0).contains(&a) {
+        Ok(a)
+    } else {
+        Err(check.error(
+            field,
+            format!("must be 0 (smooth) or between {MIN_ALPHA} and 1, got {a}"),
+        ))
+    }
+}
+
+/// `{ type = "dielectric", ior, alpha }`.
+pub(super) fn dielectric(check: &Check, field: &str, ior: f32, a: f32) -> Result<Material> {
+    Ok(Material::Dielectric {
+        ior: check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?,
+        alpha: alpha(check, &format!("{field}.alpha"), a)?,
+    })
+}
+
+/// `{ type = "conductor", alpha, eta + k | f0 }`.
+pub(super) fn conductor(
+    check: &Check,
+    field: &str,
+    a: f32,
+    eta: Option<Color>,
+    k: Option<Color>,
+    f0: Option<Color>,
+) -> Result<Material> {
+    let f = |key: &str| format!("{field}.{key}");
+    let fresnel = match (eta, k, f0) {
+        (Some(eta), Some(k), None) => {
+            let eta = check.color(&f("eta"), eta)?;
+            if eta.min_channel() <= 0.0 {
+                return Err(check.error(&f("eta"), "must be positive in every channel"));
+            }
+            ConductorFresnel::Complex {
+                eta,
+                k: check.color(&f("k"), k)?,
+            }
+        }
+        (None, None, Some(f0)) => ConductorFresnel::Schlick {
+            f0: check.albedo(&f("f0"), f0)?,
+        },
+        (Some(_), None, None) => return Err(check.error(&f("k"), "missing (eta needs k)")),
+        (None, Some(_), None) => return Err(check.error(&f("eta"), "missing (k needs eta)")),
+        (None, None, None) => {
+            return Err(check.error(
+                field,
+                "a conductor needs `eta` and `k` (complex index of refraction) or `f0` (reflectance at normal incidence)",
+            ))
+        }
+        _ => {
+            return Err(check.error(
+                &f("f0"),
+                "give either `eta` and `k` or `f0`, not both",
+            ))
+        }
+    };
+    Ok(Material::Conductor {
+        alpha: alpha(check, &f("alpha"), a)?,
+        fresnel,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::color::Rgb;
+    use crate::material::ConductorFresnel;
+
+    #[test]
+    fn f0_of_one_is_a_perfect_reflector_at_every_angle() {
+        let f = ConductorFresnel::Schlick { f0: Rgb::WHITE };
+        for c in [0.0, 0.3, 1.0] {
+            assert_eq!(f.eval(c), Rgb::WHITE);
+        }
+    }
+}

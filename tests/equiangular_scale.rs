@@ -1,0 +1,94 @@
+//! Equiangular sampling is active on unbounded segments whatever the scene's
+//! units: a point light in a global medium, scaled by k (lengths × k,
+//! coefficients ÷ k, intensity × k²), gives the same radiance at every k, and
+//! equiangular sampling lowers its standard error at every k.
+
+mod common;
+
+use brume::math::{Ray, Vec3};
+use common::*;
+
+fn scene_text(k: f64, equiangular: bool) -> String {
+    format!(
+        r#"
+        [camera]
+        position = [0.0, 0.0, {eye:?}]
+        look_at = [0.0, 0.0, 0.0]
+        [integrator]
+        max_depth = 8
+        max_scatter_depth = 1
+        equiangular = {equiangular}
+        [[light]]
+        type = "point"
+        position = [0.0, {y:?}, 0.0]
+        intensity = {i:?}
+        [[medium]]
+        type = "homogeneous"
+        sigma_a = {sa:?}
+        sigma_s = {ss:?}
+        phase = {{ type = "hg", g = 0.4 }}
+        global = true
+        "#,
+        eye = 4.0 * k,
+        y = 0.3 * k,
+        i = 2.0 * k * k,
+        sa = 0.05 / k,
+        ss = 0.2 / k,
+    )
+}
+
+#[test]
+fn point_light_in_a_global_medium_is_scale_invariant() {
+    let scales = [1e-2, 1.0, 1e2, 1e4];
+    let mut estimates = Vec::new();
+    for (i, &k) in scales.iter().enumerate() {
+        let ray = Ray::new(Vec3::new(-5.0 * k as f32, 0.0, 0.0), Vec3::X);
+        let with = estimate_ray(
+            &scene_from_str(&scene_text(k, true)),
+            ray,
+            20_000,
+            30 + i as u64,
+        );
+        let without = estimate_ray(
+            &scene_from_str(&scene_text(k, false)),
+            ray,
+            20_000,
+            40 + i as u64,
+        );
+        eprintln!(
+            "scale {k}: equiangular {:.6} ± {:.6}, free flight {:.6} ± {:.6}",
+            with.mean[0], with.std_error[0], without.mean[0], without.std_error[0]
+        );
+        assert!(
+            with.std_error[0] < 0.5 * without.std_error[0],
+            "scale {k}: equiangular standard error {} not below half of free flight's {}",
+            with.std_error[0],
+            without.std_error[0]
+        );
+        let combined = (with.std_error[0].powi(2) + without.std_error[0].powi(2)).sqrt();
+        assert!(
+            (with.mean[0] - without.mean[0]).abs() < 5.0 * combined,
+            "scale {k}: {} ± {} vs {} ± {}",
+            with.mean[0],
+            with.std_error[0],
+            without.mean[0],
+            without.std_error[0]
+        );
+        estimates.push(with);
+    }
+    let base = estimates[0];
+    for (k, e) in scales.iter().zip(&estimates) {
+        for c in 0..3 {
+            let combined = (base.std_error[c].powi(2) + e.std_error[c].powi(2)).sqrt();
+            assert!(
+                (e.mean[c] - base.mean[c]).abs() < 5.0 * combined,
+                "scale {k} channel {c}: {} ± {} vs scale {}: {} ± {}",
+                e.mean[c],
+                e.std_error[c],
+                scales[0],
+                base.mean[c],
+                base.std_error[c]
+            );
+        }
+    }
+}

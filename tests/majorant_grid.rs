@@ -1,0 +1,172 @@
+//! Single-spike property test of the majorant grid (`medium::majorant_grid`).
+//!
+//! A grid that is zero but for one voxel of value 1 (a spike), or one but for
+//! one voxel of value 0 (a hole), placed at every position relative to the
+//! majorant cell boundaries (first, second, last voxel of a cell, the voxel
+//! just past it). A trilinear lookup at p reads voxels ⌊p⌋ and ⌊p⌋ + 1 per
+//! axis, so the spike reaches every cell within one voxel of it, including
+//! the cell whose far face (the "+1 corner" of its support) touches it. For
+//! every cell, every lookup in it must lie within [cell min, cell max].
+//!
+//! The spike's trilinear footprint is a product of one tent per axis, so its
+//! largest value in a cell is at the cell's point nearest the spike (and the
+//! hole's smallest value likewise): checking that one point per cell, plus a
+//! lattice of others, checks every lookup in the cell.
+
+use brume::medium::majorant_grid::MajorantGrid;
+use brume::volume::{FloatGrid, GridTransform};
+use glam::{DVec3, IVec3, Vec3};
+
+/// Cell size in voxels (the medium's default is 8..=32).
+const CELL: i32 = 8;
+/// Grid origin: unaligned with the cells and with VDB bricks, negative.
+const ORIGIN: IVec3 = IVec3::new(-5, 3, -11);
+/// Three cells along each axis, plus the one-voxel margins.
+const DIMS: IVec3 = IVec3::new(3 * CELL + 2, 3 * CELL + 2, 3 * CELL + 2);
+
+/// A grid of `fill` everywhere but `value` on the voxel box [b0, b1].
+fn box_grid(b0: IVec3, b1: IVec3, fill: f32, value: f32) -> FloatGrid {
+    let mut values = Vec::with_capacity((DIMS.x * DIMS.y * DIMS.z) as usize);
+    for z in 0..DIMS.z {
+        for y in 0..DIMS.y {
+            for x in 0..DIMS.x {
+                let ijk = ORIGIN + IVec3::new(x, y, z);
+                let inside = b0.cmple(ijk).all() && ijk.cmple(b1).all();
+                values.push(if inside { value } else { fill });
+            }
+        }
+    }
+    let t = GridTransform::scale_translate("ScaleMap", DVec3::ONE, DVec3::ZERO).unwrap();
+    FloatGrid::from_dense("spike", ORIGIN, DIMS, &values, t).unwrap()
+}
+
+/// The index range [a, b) of cell `c` in a grid built from `lo`.
+fn cell_range(lo: Vec3, c: IVec3) -> (Vec3, Vec3) {
+    let a = lo + c.as_vec3() * CELL as f32;
+    (a, a + Vec3::splat(CELL as f32))
+}
+
+/// The point of cell `c` nearest the box [t0, t1] (just inside the cell's open
+/// far faces), where a box's tensor-product footprint is largest, and a lattice.
+fn probe_points(lo: Vec3, c: IVec3, t0: Vec3, t1: Vec3) -> Vec<Vec3> {
+    let (a, b) = cell_range(lo, c);
+    // just below the far face: a few f32 steps, so the point stays in this cell
+    let inside_b = b - b.abs().max(Vec3::ONE) * 4.0 * f32::EPSILON;
+    let mut points = vec![t0.max(a).min(t1).clamp(a, inside_b)];
+    for i in 0..=4 {
+        for j in 0..=4 {
+            for k in 0..=4 {
+                let u = Vec3::new(i as f32, j as f32, k as f32) / 4.0;
+                points.push((a + (b - a) * u).min(inside_b));
+            }
+        }
+    }
+    points
+}
+
+/// Checks every cell of the majorants of `grid` built from `lo`, where the
+/// grid differs from its fill on [b0, b1]; returns the violations.
+fn violations(grid: &FloatGrid, lo: Vec3, b0: IVec3, b1: IVec3) -> Vec<String> {
+    let hi = lo + (3 * CELL) as f32;
+    let m = MajorantGrid::build(grid, lo, hi, Vec3::splat(CELL as f32));
+    assert_eq!(m.dims(), IVec3::splat(3));
+    let mut bad = Vec::new();
+    for z in 0..3 {
+        for y in 0..3 {
+            for x in 0..3 {
+                let c = IVec3::new(x, y, z);
+                let (min, max) = m.bounds(c);
+                for p in probe_points(lo, c, b0.as_vec3(), b1.as_vec3()) {
+                    let v = grid.trilinear_index(p).max(0.0);
+                    if v > max || v < min {
+                        bad.push(format!(
+                            "box {b0}..{b1} lo {lo}: cell {c} [{min}, {max}] but lookup {v} at {p}"
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    bad
+}
+
+/// Spike positions: every voxel from one before a cell boundary to one after the next.
+fn spike_positions(lo: Vec3) -> Vec<IVec3> {
+    // voxels near the boundary between cells 0 and 1, and 1 and 2, per axis
+    let b1 = (lo + Vec3::splat(CELL as f32)).floor().as_ivec3();
+    let offsets = [-2, -1, 0, 1, CELL - 1, CELL, CELL + 1];
+    let mut out = Vec::new();
+    for &ox in &offsets {
+        for &oy in &offsets {
+            for &oz in &offsets {
+                out.push(b1 + IVec3::new(ox, oy, oz));
+            }
+        }
+    }
+    out
+}
+
+fn check(fill: f32, value: f32) {
+    // integer corner (as GridMedium builds it: the active box widened by a voxel)
+    // and a fractional one (the build accepts any index box)
+    let base = (ORIGIN - IVec3::ONE).as_vec3();
+    let mut bad = Vec::new();
+    for lo in [base, base + Vec3::new(0.375, 0.5, 0.875)] {
+        for spike in spike_positions(lo) {
+            let grid = box_grid(spike, spike, fill, value);
+            bad.extend(violations(&grid, lo, spike, spike));
+        }
+    }
+    assert_none(&bad);
+}
+
+fn assert_none(bad: &[String]) {
+    assert!(
+        bad.is_empty(),
+        "{} violations, first:\n{}",
+        bad.len(),
+        bad.iter().take(8).cloned().collect::<Vec<_>>().join("\n")
+    );
+}
+
+/// Every lookup in a cell is at most the cell's majorant, wherever the spike is.
+#[test]
+fn a_single_spike_stays_under_every_cell_majorant() {
+    check(0.0, 1.0);
+}
+
+/// Every lookup in a cell is at least the cell's minimum, wherever the hole is.
+#[test]
+fn a_single_hole_stays_over_every_cell_minimum() {
+    check(1.0, 0.0);
+}
+
+/// A uniform 8³ brick (bounded per block, not per voxel) at every offset of the
+/// cell lattice: every lookup in a cell is at most the cell's majorant.
+#[test]
+fn a_single_uniform_brick_stays_under_every_cell_majorant() {
+    // the brick at the grid's middle brick [0, 7] × [8, 15] × [0, 7]; shift the cells across it
+    let (b0, b1) = (IVec3::new(0, 8, 0), IVec3::new(7, 15, 7));
+    let grid = box_grid(b0, b1, 0.0, 1.0);
+    let mut bad = Vec::new();
+    for d in -(CELL + 1)..=1 {
+        for frac in [0.0, 0.5] {
+            // cell 1 starts at b0 + d (+ frac): the brick crosses each of its faces in turn
+            let lo = (b0 + IVec3::splat(d - CELL)).as_vec3() + frac;
+            bad.extend(violations(&grid, lo, b0, b1));
+        }
+    }
+    assert_none(&bad);
+}
+
+/// The bounds are tight enough to matter: cells the spike cannot reach keep majorant 0.
+#[test]
+fn cells_beyond_the_spike_reach_keep_a_zero_majorant() {
+    let lo = (ORIGIN - IVec3::ONE).as_vec3();
+    // the middle of cell (0, 0, 0): two voxels or more from every other cell
+    let spike = (lo + Vec3::splat(CELL as f32 / 2.0)).as_ivec3();
+    let grid = box_grid(spike, spike, 0.0, 1.0);
+    let m = MajorantGrid::build(&grid, lo, lo + (3 * CELL) as f32, Vec3::splat(CELL as f32));
+    assert!(m.bounds(IVec3::ZERO).1 >= 1.0);
+    assert_eq!(m.bounds(IVec3::new(2, 2, 2)), (0.0, 0.0));
+}
