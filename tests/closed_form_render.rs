@@ -305,13 +305,10 @@ fn ground_under_emissive_ball_at_max_depth_one() {
         let eye = Vec3::new(0.3, 0.6, 1.0);
         let ray = Ray::new(eye, (-eye).normalize());
         let est = estimate_ray(&scene, ray, 400_000, 5);
-        for c in 0..3 {
-            assert!(
-                (est.mean[c] - expected).abs() <= 5.0 * est.std_error[c] + 2e-5 * expected,
-                "σa {sigma_a} σs {sigma_s} max_depth {max_depth}: {} ± {} vs {expected}",
-                est.mean[c],
-                est.std_error[c]
-            );
-        }
+        assert_estimate(
+            &est,
+            [expected; 3],
+            &format!("σa {sigma_a} σs {sigma_s} max_depth {max_depth}"),
+        );
     }
 }

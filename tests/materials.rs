@@ -4,7 +4,7 @@
 mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
-use analytic_support::{assert_estimate, estimate, estimate_li};
+use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
 use brume::color::Rgb;
 use brume::material::{ConductorFresnel, Material, Shading};
 use brume::math::{Ray, Vec3};
@@ -181,7 +181,7 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
                 })
         });
         assert!(
-            est.mean[0] <= 1.0 + 5.0 * est.std_error[0],
+            est.mean[0] <= 1.0 + k_sigma(1) * est.std_error[0],
             "α {alpha} θ {theta}: {} ± {}",
             est.mean[0],
             est.std_error[0]
@@ -202,7 +202,8 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
         });
         let f = brume::material::fresnel::dielectric(theta.to_radians().cos(), 1.5) as f64;
         assert!(
-            (est.mean[0] - f).abs() < 5.0 * est.std_error[0] + 2e-3 * f,
+            // 2e-3 f: α = 0.002 is nearly, not exactly, the smooth interface.
+            (est.mean[0] - f).abs() < k_sigma(3) * est.std_error[0] + 2e-3 * f,
             "θ {theta}: {} vs {f}",
             est.mean[0]
         );

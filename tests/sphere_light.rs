@@ -85,16 +85,11 @@ fn check(p: Vec3, e_deg: f64, d: f64, r: f64, expected_e: f64, medium: bool) {
         est.std_error[0],
         100.0 * (est.mean[0] / expected - 1.0)
     );
-    for c in 0..3 {
-        let tol = 5.0 * est.std_error[c] + 2e-5 * expected;
-        assert!(
-            (est.mean[c] - expected).abs() <= tol,
-            "p = {p}, elevation {e_deg}°, d = {d}, r = {r}, medium {medium}: {} ± {} vs {expected} ({:+.2}%)",
-            est.mean[c],
-            est.std_error[c],
-            100.0 * (est.mean[c] / expected - 1.0)
-        );
-    }
+    assert_estimate(
+        &est,
+        [expected; 3],
+        &format!("p = {p}, elevation {e_deg}°, d = {d}, r = {r}, medium {medium}"),
+    );
 }
 
 /// The quadrature reproduces the closed form where the sphere is above the horizon.

@@ -398,8 +398,12 @@ def read_exr(path):
     import numpy as np
     import mitsuba as mi
     mi.set_variant("scalar_rgb")
-    return np.array(mi.Bitmap(str(path)).convert(mi.Bitmap.PixelFormat.RGB,
-                                                 mi.Struct.Type.Float32, srgb_gamma=False))
+    bitmap = mi.Bitmap(str(path))
+    if bitmap.channel_count() > 3:
+        # brume's film EXR also holds its exact sums and counts: keep the beauty.
+        bitmap = dict(bitmap.split())["<root>"]
+    return np.array(bitmap.convert(mi.Bitmap.PixelFormat.RGB,
+                                   mi.Struct.Type.Float32, srgb_gamma=False))
 
 
 def scene_file(key, resolution, spp, work):
