@@ -225,54 +225,6 @@ pub fn exr_is_complete(path: &Path) -> bool {
 /// naming, e.g. `A`, `albedo.R`, `normal.X`, `depth.Z`; row-major values.
 pub type NamedChannel = (String, Vec<f32>);
 
-/// Writes the beauty as `R`, `G`, `B` plus `extra` channels in one part
-/// (what compositors read as layers), with the same header records as [`write_exr`].
-pub fn write_exr_with_channels(path: &Path, image: &Image, extra: &[NamedChannel]) -> Result<()> {
-    use exr::meta::attribute::{AttributeValue, Text};
-    use exr::prelude::{
-        AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer, LayerAttributes,
-        SmallVec, WritableImage,
-    };
-    let (w, h) = (image.width, image.height);
-    if let Some((name, _)) = extra.iter().find(|(_, v)| v.len() != w * h) {
-        return Err(output_error(
-            path,
-            format!("channel {name} does not match the image size"),
-        ));
-    }
-    let beauty = |f: fn(&Rgb) -> f32| image.pixels.iter().map(f).collect::<Vec<f32>>();
-    let mut channels = vec![
-        AnyChannel::new("R", FlatSamples::F32(beauty(|c| c.r))),
-        AnyChannel::new("G", FlatSamples::F32(beauty(|c| c.g))),
-        AnyChannel::new("B", FlatSamples::F32(beauty(|c| c.b))),
-    ];
-    for (name, values) in extra {
-        channels.push(AnyChannel::new(
-            name.as_str(),
-            FlatSamples::F32(values.clone()),
-        ));
-    }
-    let layer = Layer::new(
-        (w, h),
-        LayerAttributes::named("rgb"),
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(SmallVec::from_vec(channels)),
-    );
-    let mut exr_image = ExrImage::from_layer(layer);
-    let other = &mut exr_image.attributes.other;
-    other.insert(
-        Text::from("brume:spp"),
-        AttributeValue::I32(image.spp as i32),
-    );
-    other.insert(
-        Text::from("brume:complete"),
-        AttributeValue::I32(if image.partial { 0 } else { 1 }),
-    );
-    write_atomically(path, |tmp| {
-        exr_image.write().to_file(tmp).map_err(|e| e.to_string())
-    })
-}
-
 /// Reads every channel of every layer of an EXR: width, height and the
 /// channels by their full names (a named layer's channels as `layer.channel`).
 pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>)> {
