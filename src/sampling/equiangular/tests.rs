@@ -98,3 +98,17 @@ fn bad_intervals_are_refused() {
         assert_eq!(equiangular_pdf(Vec3::ZERO, Vec3::X, light, a, b, 1.0), 0.0);
     }
 }
+
+#[test]
+fn a_light_close_beside_a_long_segment_keeps_its_density() {
+    // D = 1e-4 beside a segment 1e4 long: far above the rounding of D (1e-6 of the
+    // light's distance 3), so the light is beside the line, not on it, whatever the
+    // segment's length; the density peaks at the closest point with 1/(θ D), θ ≈ π.
+    let light = Vec3::new(3.0, 1e-4, 0.0);
+    let (a, b) = (0.0, 1.0e4);
+    let s = sample_equiangular(Vec3::ZERO, Vec3::X, light, a, b, 0.5).expect("a sample");
+    assert!((s.value - 3.0).abs() < 1e-3, "t = {}", s.value);
+    let peak = equiangular_pdf(Vec3::ZERO, Vec3::X, light, a, b, 3.0);
+    let expected = 1.0 / (std::f32::consts::PI * 1e-4);
+    assert!((peak / expected - 1.0).abs() < 1e-3, "{peak} vs {expected}");
+}
