@@ -158,6 +158,7 @@ struct RenderArgs {
 }
 
 fn main() {
+    restore_default_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => run_render(*args),
@@ -172,6 +173,21 @@ fn main() {
             eprintln!("error: {e}");
             std::process::exit(e.exit_code());
         }
+    }
+}
+
+/// Lets a closed pipe end the process silently, as it ends `cat` or `grep`.
+///
+/// Rust ignores SIGPIPE, so `println!` into a reader that has gone away (`brume
+/// compare a b | head -1`) panics. Every file brume writes is written before its
+/// report is printed (and atomically, through a temporary), so dying at a print
+/// never leaves a half-written image.
+fn restore_default_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in main, before any thread exists; SIG_DFL is a
+    // valid disposition for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -791,3 +791,30 @@ fn sigint_stops_a_stuck_render_within_two_seconds() {
         "the earlier image must survive"
     );
 }
+
+#[test]
+fn a_closed_stdout_pipe_ends_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    // The reader is closed before brume starts, so its first print meets a
+    // broken pipe for certain (a reader closed after spawning could race it).
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    let volume =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/volumes/homogeneous_box.vdb");
+    let out = Command::cargo_bin("brume")
+        .unwrap()
+        .arg("info")
+        .arg(&volume)
+        .stdout(writer)
+        .stderr(Stdio::piped())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(
+        out.status.signal(),
+        Some(libc::SIGPIPE),
+        "{:?}: {stderr}",
+        out.status
+    );
+}
