@@ -5,6 +5,7 @@ use crate::envmap::EnvMap;
 use crate::geometry::{Geometry, Primitive};
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
+use crate::texture::Texture;
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -82,12 +83,17 @@ pub enum Light {
         /// Cosine of the cone's half-angle (no light outside).
         cos_outer: f32,
     },
-    /// An emissive shape with uniform radiance on its primitives.
+    /// An emissive shape: radiance constant or a texture over its surface.
+    ///
+    /// Sampling does not depend on the radiance (uniform by area, or by cone
+    /// for a sphere): a textured emitter is sampled like a constant one and
+    /// its texture evaluated at the sampled point, so both MIS strategies use
+    /// the same pdf.
     Area {
         /// Index of the shape in the scene.
         shape: u32,
         /// Emitted radiance.
-        radiance: Rgb,
+        radiance: Texture,
         /// Emit from both sides instead of only the front (normal) side.
         two_sided: bool,
         /// Indices into `Geometry::primitives` of the shape's primitives.
@@ -127,7 +133,7 @@ pub struct LightSample {
 
 impl Light {
     /// Builds an area light for `shape` over its primitives in `geometry`.
-    pub fn area(shape: u32, radiance: Rgb, two_sided: bool, geometry: &Geometry) -> Light {
+    pub fn area(shape: u32, radiance: Texture, two_sided: bool, geometry: &Geometry) -> Light {
         let mut primitives = Vec::new();
         let mut cumulative_area = Vec::new();
         let mut total = 0.0;
@@ -265,7 +271,16 @@ impl Light {
         };
         if let Some((center, radius)) = *sphere {
             if let Some(cone) = Cone::new(p, center, radius) {
-                return cone.light_sample(u, radius, *radiance);
+                let mut ls = cone.light_sample(u, radius, Rgb::WHITE)?;
+                ls.radiance = match radiance.constant() {
+                    Some(c) => c,
+                    None => radiance.eval(geometry.uv(
+                        primitives[0],
+                        Vec2::ZERO,
+                        p + ls.wi * ls.distance,
+                    )),
+                };
+                return Some(ls);
             }
         }
         let total = *cumulative_area.last()?;
@@ -294,10 +309,14 @@ impl Light {
         if cos_light <= 0.0 && !two_sided || cos_light == 0.0 {
             return None;
         }
+        let radiance = match radiance.constant() {
+            Some(c) => c,
+            None => radiance.eval(geometry.uv(primitives[k], a.st, a.p)),
+        };
         Some(LightSample {
             wi,
             distance,
-            radiance: *radiance,
+            radiance,
             pdf: dist2 / (cos_light.abs() * total),
             is_delta: false,
         })
@@ -330,14 +349,18 @@ impl Light {
         }
     }
 
-    /// Emitted radiance leaving an area light's surface toward `wo`, for normal `n`.
-    pub fn area_radiance(&self, n: Vec3, wo: Vec3) -> Rgb {
+    /// Emitted radiance leaving an area light's surface toward `wo`, for
+    /// normal `n`, at texture coordinates `uv()` (only called for a texture).
+    pub fn area_radiance(&self, n: Vec3, wo: Vec3, uv: impl FnOnce() -> Vec2) -> Rgb {
         match self {
             Light::Area {
                 radiance,
                 two_sided,
                 ..
-            } if *two_sided || n.dot(wo) > 0.0 => *radiance,
+            } if *two_sided || n.dot(wo) > 0.0 => match radiance.constant() {
+                Some(c) => c,
+                None => radiance.eval(uv()),
+            },
             _ => Rgb::BLACK,
         }
     }
@@ -419,7 +442,7 @@ mod tests {
             edge_v: Vec3::Z,
         };
         let geometry = Geometry::new(vec![(quad, 0)]);
-        let light = Light::area(0, Rgb::WHITE, true, &geometry);
+        let light = Light::area(0, Texture::Constant(Rgb::WHITE), true, &geometry);
         let mut s = Sampler::from_seed(8);
         for _ in 0..100 {
             let ls = light.sample(Vec3::ZERO, s.next_2d(), &geometry).unwrap();
