@@ -451,4 +451,57 @@ mod tests {
             assert!((pdf - ls.pdf).abs() < 1e-3 * pdf);
         }
     }
+
+    /// A textured emitter's light sample carries the texture at the sampled
+    /// point, the value a ray toward that point finds there (what MIS pairs).
+    #[test]
+    fn textured_area_light_samples_carry_the_texture_at_their_point() {
+        use crate::math::Ray;
+        let texture = Texture::Checkerboard {
+            a: Rgb::new(1.0, 2.0, 3.0),
+            b: Rgb::new(0.5, 0.25, 4.0),
+            uv_scale: Vec2::new(3.0, 2.0),
+        };
+        let quad = Primitive::Parallelogram {
+            corner: Vec3::new(-1.0, 2.0, -1.0),
+            edge_u: Vec3::new(0.0, 0.0, 2.0),
+            edge_v: Vec3::new(2.0, 0.0, 0.0),
+        };
+        let tri = Primitive::Triangle {
+            p: [
+                Vec3::new(-1.0, 3.0, -1.0),
+                Vec3::new(1.0, 3.0, -1.0),
+                Vec3::new(0.0, 3.0, 1.0),
+            ],
+            n: [Vec3::ZERO; 3],
+        };
+        let sphere = Primitive::Sphere {
+            center: Vec3::new(0.0, 0.0, 4.0),
+            radius: 1.0,
+        };
+        let corners = [
+            Vec2::new(0.2, 0.1),
+            Vec2::new(0.9, 0.4),
+            Vec2::new(0.3, 0.8),
+        ];
+        for (shape, prim) in [quad, tri, sphere].into_iter().enumerate() {
+            let geometry = Geometry::with_texcoords(vec![(prim, 0)], vec![corners]);
+            let light = Light::area(0, texture.clone(), true, &geometry);
+            let mut s = Sampler::from_seed(3 + shape as u64);
+            let mut seen = [false; 2];
+            for _ in 0..200 {
+                let Some(ls) = light.sample(Vec3::ZERO, s.next_2d(), &geometry) else {
+                    continue;
+                };
+                let hit = geometry
+                    .intersect(&Ray::new(Vec3::ZERO, ls.wi), f32::INFINITY)
+                    .unwrap();
+                let uv = geometry.uv(hit.primitive, hit.st, hit.p);
+                let at_hit = light.area_radiance(hit.geometric_normal, -ls.wi, || uv);
+                assert_eq!(ls.radiance, at_hit, "shape {shape} at {uv}");
+                seen[(ls.radiance == Rgb::new(1.0, 2.0, 3.0)) as usize] = true;
+            }
+            assert_eq!(seen, [true, true], "shape {shape}: both colours sampled");
+        }
+    }
 }

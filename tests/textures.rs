@@ -25,8 +25,18 @@ use std::path::{Path, PathBuf};
 
 /// The bytes of tests/data/textures/checker4x2.png (row 0 at the top), as in tools/make_textures.py.
 const TEXELS: [[[u8; 3]; 4]; 2] = [
-    [[200, 40, 90], [30, 220, 140], [120, 60, 250], [250, 180, 20]],
-    [[10, 100, 200], [160, 250, 60], [90, 10, 30], [230, 130, 170]],
+    [
+        [200, 40, 90],
+        [30, 220, 140],
+        [120, 60, 250],
+        [250, 180, 20],
+    ],
+    [
+        [10, 100, 200],
+        [160, 250, 60],
+        [90, 10, 30],
+        [230, 130, 170],
+    ],
 ];
 
 /// Image size of the renders: 8 × 8 pixels per texel.
@@ -212,7 +222,11 @@ fn exr_emission_is_read_linear_and_png_can_be_declared_linear() {
         "{ type = \"image\", file = \"tex.exr\" }",
         "{ type = \"image\", file = \"tex.png\", color_space = \"linear\" }",
     ] {
-        let text = format!("{}{}", camera(0, 16), quad(&format!("emission = {emission}\n")));
+        let text = format!(
+            "{}{}",
+            camera(0, 16),
+            quad(&format!("emission = {emission}\n"))
+        );
         let scene = load_in(dir.path(), &text);
         let pixels = estimate_pixels(&scene, 16);
         // f32 texels: the EXR stores b/255 rounded to f32, within ROUNDING of the f64 value.
