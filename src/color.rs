@@ -163,6 +163,15 @@ pub fn linear_to_srgb(v: f32) -> f32 {
     }
 }
 
+/// The inverse sRGB transfer function: an sRGB-encoded value in [0, 1] to linear.
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -185,5 +194,18 @@ mod tests {
         assert_eq!(linear_to_srgb(0.0), 0.0);
         assert!((linear_to_srgb(1.0) - 1.0).abs() < 1e-6);
         assert!((linear_to_srgb(0.18) - 0.4614).abs() < 1e-3);
+    }
+
+    #[test]
+    fn srgb_decode_inverts_the_encode() {
+        assert_eq!(srgb_to_linear(0.0), 0.0);
+        assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
+        // 8-bit 128 is 21.6% linear, not 50%; 10/255 is on the linear segment.
+        assert!((srgb_to_linear(128.0 / 255.0) - 0.215_861).abs() < 1e-5);
+        assert!((srgb_to_linear(10.0 / 255.0) - 10.0 / 255.0 / 12.92).abs() < 1e-7);
+        for i in 0..=255 {
+            let v = i as f32 / 255.0;
+            assert!((linear_to_srgb(srgb_to_linear(v)) - v).abs() < 1e-5, "{i}");
+        }
     }
 }

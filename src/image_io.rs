@@ -285,6 +285,56 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
     ))
 }
 
+/// The samples of a PNG file as stored (sRGB-encoded or not), each in [0, 1].
+pub struct PngSamples {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Samples per pixel: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA.
+    pub channels: usize,
+    /// Row-major, row 0 at the top, `channels` values per pixel.
+    pub values: Vec<f32>,
+}
+
+/// Reads a PNG of any bit depth and colour type (palettes expanded), for textures.
+pub fn read_png(path: &Path) -> Result<PngSamples> {
+    let input = |message: String| Error::Input {
+        path: path.to_path_buf(),
+        message,
+    };
+    let file = std::fs::File::open(path).map_err(|e| input(format!("cannot read PNG: {e}")))?;
+    let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| input(format!("cannot read PNG: {e}")))?;
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let frame = reader
+        .next_frame(&mut buf)
+        .map_err(|e| input(format!("cannot read PNG: {e}")))?;
+    let bytes = &buf[..frame.buffer_size()];
+    let channels = frame.color_type.samples();
+    let values: Vec<f32> = match frame.bit_depth {
+        png::BitDepth::Sixteen => bytes
+            .chunks_exact(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]) as f32 / 65535.0)
+            .collect(),
+        // EXPAND turns 1-, 2- and 4-bit samples into bytes.
+        _ => bytes.iter().map(|&b| b as f32 / 255.0).collect(),
+    };
+    let (width, height) = (frame.width as usize, frame.height as usize);
+    if values.len() != width * height * channels {
+        return Err(input("cannot read PNG: unexpected sample layout".into()));
+    }
+    Ok(PngSamples {
+        width,
+        height,
+        channels,
+        values,
+    })
+}
+
 /// Writes an 8-bit sRGB PNG after scaling by 2^exposure and clamping.
 pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
     write_png_tonemapped(path, image, exposure, Tonemap::Clip)

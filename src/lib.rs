@@ -29,5 +29,6 @@ pub mod sampling;
 pub mod scene;
 pub mod scene_hash;
 pub mod split;
+pub mod texture;
 pub mod tonemap;
 pub mod volume;

@@ -5,6 +5,7 @@ use crate::envmap::EnvMap;
 use crate::geometry::{Geometry, Primitive};
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
+use crate::texture::Texture;
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -82,12 +83,17 @@ pub enum Light {
         /// Cosine of the cone's half-angle (no light outside).
         cos_outer: f32,
     },
-    /// An emissive shape with uniform radiance on its primitives.
+    /// An emissive shape: radiance constant or a texture over its surface.
+    ///
+    /// Sampling does not depend on the radiance (uniform by area, or by cone
+    /// for a sphere): a textured emitter is sampled like a constant one and
+    /// its texture evaluated at the sampled point, so both MIS strategies use
+    /// the same pdf.
     Area {
         /// Index of the shape in the scene.
         shape: u32,
         /// Emitted radiance.
-        radiance: Rgb,
+        radiance: Texture,
         /// Emit from both sides instead of only the front (normal) side.
         two_sided: bool,
         /// Indices into `Geometry::primitives` of the shape's primitives.
@@ -127,7 +133,7 @@ pub struct LightSample {
 
 impl Light {
     /// Builds an area light for `shape` over its primitives in `geometry`.
-    pub fn area(shape: u32, radiance: Rgb, two_sided: bool, geometry: &Geometry) -> Light {
+    pub fn area(shape: u32, radiance: Texture, two_sided: bool, geometry: &Geometry) -> Light {
         let mut primitives = Vec::new();
         let mut cumulative_area = Vec::new();
         let mut total = 0.0;
@@ -265,7 +271,16 @@ impl Light {
         };
         if let Some((center, radius)) = *sphere {
             if let Some(cone) = Cone::new(p, center, radius) {
-                return cone.light_sample(u, radius, *radiance);
+                let mut ls = cone.light_sample(u, radius, Rgb::WHITE)?;
+                ls.radiance = match radiance.constant() {
+                    Some(c) => c,
+                    None => radiance.eval(geometry.uv(
+                        primitives[0],
+                        Vec2::ZERO,
+                        p + ls.wi * ls.distance,
+                    )),
+                };
+                return Some(ls);
             }
         }
         let total = *cumulative_area.last()?;
@@ -294,10 +309,14 @@ impl Light {
         if cos_light <= 0.0 && !two_sided || cos_light == 0.0 {
             return None;
         }
+        let radiance = match radiance.constant() {
+            Some(c) => c,
+            None => radiance.eval(geometry.uv(primitives[k], a.st, a.p)),
+        };
         Some(LightSample {
             wi,
             distance,
-            radiance: *radiance,
+            radiance,
             pdf: dist2 / (cos_light.abs() * total),
             is_delta: false,
         })
@@ -330,14 +349,18 @@ impl Light {
         }
     }
 
-    /// Emitted radiance leaving an area light's surface toward `wo`, for normal `n`.
-    pub fn area_radiance(&self, n: Vec3, wo: Vec3) -> Rgb {
+    /// Emitted radiance leaving an area light's surface toward `wo`, for
+    /// normal `n`, at texture coordinates `uv()` (only called for a texture).
+    pub fn area_radiance(&self, n: Vec3, wo: Vec3, uv: impl FnOnce() -> Vec2) -> Rgb {
         match self {
             Light::Area {
                 radiance,
                 two_sided,
                 ..
-            } if *two_sided || n.dot(wo) > 0.0 => *radiance,
+            } if *two_sided || n.dot(wo) > 0.0 => match radiance.constant() {
+                Some(c) => c,
+                None => radiance.eval(uv()),
+            },
             _ => Rgb::BLACK,
         }
     }
@@ -419,13 +442,66 @@ mod tests {
             edge_v: Vec3::Z,
         };
         let geometry = Geometry::new(vec![(quad, 0)]);
-        let light = Light::area(0, Rgb::WHITE, true, &geometry);
+        let light = Light::area(0, Texture::Constant(Rgb::WHITE), true, &geometry);
         let mut s = Sampler::from_seed(8);
         for _ in 0..100 {
             let ls = light.sample(Vec3::ZERO, s.next_2d(), &geometry).unwrap();
             let hit_p = ls.wi * ls.distance;
             let pdf = light.area_pdf(Vec3::ZERO, hit_p, Vec3::Y);
             assert!((pdf - ls.pdf).abs() < 1e-3 * pdf);
+        }
+    }
+
+    /// A textured emitter's light sample carries the texture at the sampled
+    /// point, the value a ray toward that point finds there (what MIS pairs).
+    #[test]
+    fn textured_area_light_samples_carry_the_texture_at_their_point() {
+        use crate::math::Ray;
+        let texture = Texture::Checkerboard {
+            a: Rgb::new(1.0, 2.0, 3.0),
+            b: Rgb::new(0.5, 0.25, 4.0),
+            uv_scale: Vec2::new(3.0, 2.0),
+        };
+        let quad = Primitive::Parallelogram {
+            corner: Vec3::new(-1.0, 2.0, -1.0),
+            edge_u: Vec3::new(0.0, 0.0, 2.0),
+            edge_v: Vec3::new(2.0, 0.0, 0.0),
+        };
+        let tri = Primitive::Triangle {
+            p: [
+                Vec3::new(-1.0, 3.0, -1.0),
+                Vec3::new(1.0, 3.0, -1.0),
+                Vec3::new(0.0, 3.0, 1.0),
+            ],
+            n: [Vec3::ZERO; 3],
+        };
+        let sphere = Primitive::Sphere {
+            center: Vec3::new(0.0, 0.0, 4.0),
+            radius: 1.0,
+        };
+        let corners = [
+            Vec2::new(0.2, 0.1),
+            Vec2::new(0.9, 0.4),
+            Vec2::new(0.3, 0.8),
+        ];
+        for (shape, prim) in [quad, tri, sphere].into_iter().enumerate() {
+            let geometry = Geometry::with_texcoords(vec![(prim, 0)], vec![corners]);
+            let light = Light::area(0, texture.clone(), true, &geometry);
+            let mut s = Sampler::from_seed(3 + shape as u64);
+            let mut seen = [false; 2];
+            for _ in 0..200 {
+                let Some(ls) = light.sample(Vec3::ZERO, s.next_2d(), &geometry) else {
+                    continue;
+                };
+                let hit = geometry
+                    .intersect(&Ray::new(Vec3::ZERO, ls.wi), f32::INFINITY)
+                    .unwrap();
+                let uv = geometry.uv(hit.primitive, hit.st, hit.p);
+                let at_hit = light.area_radiance(hit.geometric_normal, -ls.wi, || uv);
+                assert_eq!(ls.radiance, at_hit, "shape {shape} at {uv}");
+                seen[(ls.radiance == Rgb::new(1.0, 2.0, 3.0)) as usize] = true;
+            }
+            assert_eq!(seen, [true, true], "shape {shape}: both colours sampled");
         }
     }
 }

@@ -66,7 +66,8 @@ fn files_read(
         MediumDesc::Vdb(vdb) => Some(vdb.file.as_path()),
         _ => None,
     });
-    meshes.chain(volumes).map(resolve).collect()
+    let textures = desc.shapes.iter().flat_map(|s| s.texture_files());
+    meshes.chain(textures).chain(volumes).map(resolve).collect()
 }
 
 /// Word-at-a-time hashing through the SplitMix64 finalizer, length-prefixed per input.

@@ -2,9 +2,9 @@
 
 pub mod shapes;
 
-pub use shapes::{AreaSample, Primitive, PrimitiveHit};
+pub use shapes::{sphere_uv, AreaSample, Primitive, PrimitiveHit};
 
-use crate::math::{Bounds3, Ray, Vec3};
+use crate::math::{Bounds3, Ray, Vec2, Vec3};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{builder::build_bvh2, Bvh2};
 use obvhs::ray::{Ray as BvhRay, RayHit};
@@ -28,15 +28,22 @@ pub struct SurfaceHit {
     pub primitive: u32,
     /// Index of the scene shape the primitive belongs to.
     pub shape: u32,
+    /// The primitive's surface parameters there (see [`PrimitiveHit::st`]).
+    pub st: Vec2,
 }
 
 /// All primitives of a scene with their BVH.
 pub struct Geometry {
     primitives: Vec<Primitive>,
     primitive_shape: Vec<u32>,
+    /// Per-corner texture coordinates of each primitive (same order), or empty when no mesh has any.
+    texcoords: Vec<[Vec2; 3]>,
     bvh: Option<Bvh2>,
     bounds: Bounds3,
 }
+
+/// Corner texture coordinates of a triangle without any: its barycentric parameters.
+pub const BARYCENTRIC_UV: [Vec2; 3] = [Vec2::ZERO, Vec2::X, Vec2::Y];
 
 struct Boxed(Bounds3);
 
@@ -49,12 +56,20 @@ impl obvhs::Boundable for Boxed {
 impl Geometry {
     /// Builds the BVH over `(primitive, shape index)` pairs; primitives are reordered for traversal.
     pub fn new(items: Vec<(Primitive, u32)>) -> Geometry {
+        Geometry::with_texcoords(items, Vec::new())
+    }
+
+    /// [`Geometry::new`] with per-corner texture coordinates of each item
+    /// (used by triangles; empty for none, else one entry per item).
+    pub fn with_texcoords(items: Vec<(Primitive, u32)>, texcoords: Vec<[Vec2; 3]>) -> Geometry {
+        assert!(texcoords.is_empty() || texcoords.len() == items.len());
         let boxes: Vec<Boxed> = items.iter().map(|(p, _)| Boxed(p.bounds())).collect();
         let bounds = boxes.iter().fold(Bounds3::EMPTY, |acc, b| acc.union(&b.0));
         if items.is_empty() {
             return Geometry {
                 primitives: Vec::new(),
                 primitive_shape: Vec::new(),
+                texcoords: Vec::new(),
                 bvh: None,
                 bounds,
             };
@@ -67,9 +82,16 @@ impl Geometry {
             .iter()
             .map(|&i| items[i as usize])
             .unzip();
+        let texcoords = if texcoords.is_empty() {
+            texcoords
+        } else {
+            let order = bvh.primitive_indices.iter();
+            order.map(|&i| texcoords[i as usize]).collect()
+        };
         Geometry {
             primitives,
             primitive_shape,
+            texcoords,
             bvh: Some(bvh),
             bounds,
         }
@@ -83,6 +105,24 @@ impl Geometry {
     /// Shape index of each primitive (same order as `primitives`).
     pub fn primitive_shapes(&self) -> &[u32] {
         &self.primitive_shape
+    }
+
+    /// Texture coordinates of the point `p` with surface parameters `st` on primitive `primitive`.
+    ///
+    /// A sphere is mapped lat-long ([`sphere_uv`]), a parallelogram [0, 1]²
+    /// along its edges, a triangle by interpolating its corners' coordinates
+    /// with the barycentrics.
+    #[inline]
+    pub fn uv(&self, primitive: u32, st: Vec2, p: Vec3) -> Vec2 {
+        let i = primitive as usize;
+        match self.primitives[i] {
+            Primitive::Sphere { center, radius } => sphere_uv((p - center) / radius),
+            Primitive::Parallelogram { .. } => st,
+            Primitive::Triangle { .. } => {
+                let t = self.texcoords.get(i).unwrap_or(&BARYCENTRIC_UV);
+                t[0] * (1.0 - st.x - st.y) + t[1] * st.x + t[2] * st.y
+            }
+        }
     }
 
     /// Bounds of all primitives.
@@ -115,6 +155,7 @@ impl Geometry {
             shading_normal: h.shading_normal,
             primitive: hit.primitive_id,
             shape: self.primitive_shape[hit.primitive_id as usize],
+            st: h.st,
         })
     }
 
@@ -160,6 +201,102 @@ mod tests {
         assert!(g.occluded(&ray, 20.0));
         assert!(!g.occluded(&ray, 8.0));
         assert!(!g.occluded(&Ray::new(Vec3::new(5.0, 0.0, 0.0), Vec3::Z), 1e3));
+    }
+
+    /// Texture coordinates of the first hit along `ray`.
+    fn uv_along(g: &Geometry, ray: Ray) -> Vec2 {
+        let h = g.intersect(&ray, f32::INFINITY).unwrap();
+        g.uv(h.primitive, h.st, h.p)
+    }
+
+    #[test]
+    fn parallelogram_uv_spans_the_unit_square_along_its_edges() {
+        let q = Primitive::Parallelogram {
+            corner: Vec3::new(-1.0, -0.5, 0.0),
+            edge_u: Vec3::new(2.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 1.0, 0.0),
+        };
+        let g = Geometry::new(vec![(q, 0)]);
+        for (x, y, u, v) in [
+            (-0.99, -0.49, 0.005, 0.01),
+            (0.98, 0.48, 0.99, 0.98),
+            (0.5, -0.25, 0.75, 0.25),
+            (-0.6, 0.4, 0.2, 0.9),
+        ] {
+            let ray = Ray::new(Vec3::new(x, y, 3.0), -Vec3::Z);
+            let uv = uv_along(&g, ray);
+            assert!((uv - Vec2::new(u, v)).length() < 1e-5, "({x},{y}): {uv}");
+        }
+        // Area samples carry the same parameters as hits there.
+        let a = q.sample_area(Vec2::new(0.3, 0.8));
+        assert!((g.uv(0, a.st, a.p) - Vec2::new(0.3, 0.8)).length() < 1e-6);
+    }
+
+    #[test]
+    fn sphere_uv_is_lat_long() {
+        let g = Geometry::new(vec![(
+            Primitive::Sphere {
+                center: Vec3::new(1.0, 2.0, 3.0),
+                radius: 2.0,
+            },
+            0,
+        )]);
+        let c = Vec3::new(1.0, 2.0, 3.0);
+        // From outside toward the centre: hits the point in direction -dir from it.
+        let at = |n: Vec3| uv_along(&g, Ray::new(c + n * 10.0, -n));
+        let close = |a: Vec2, b: Vec2| (a - b).length() < 1e-4;
+        assert!(close(at(Vec3::X), Vec2::new(0.0, 0.5)) || close(at(Vec3::X), Vec2::new(1.0, 0.5)));
+        assert!(close(at(Vec3::Z), Vec2::new(0.25, 0.5)), "{}", at(Vec3::Z));
+        assert!(close(at(-Vec3::X), Vec2::new(0.5, 0.5)), "{}", at(-Vec3::X));
+        assert!(
+            close(at(-Vec3::Z), Vec2::new(0.75, 0.5)),
+            "{}",
+            at(-Vec3::Z)
+        );
+        assert!((at(Vec3::Y).y - 1.0).abs() < 1e-4 && at(-Vec3::Y).y.abs() < 1e-4);
+        // 45° above the horizon toward +Z: θ = π/4.
+        let n = Vec3::new(0.0, 1.0, 1.0).normalize();
+        assert!(close(at(n), Vec2::new(0.25, 0.75)), "{}", at(n));
+    }
+
+    #[test]
+    fn triangle_uv_interpolates_corner_coordinates_barycentrically() {
+        let tri = Primitive::Triangle {
+            p: [Vec3::ZERO, Vec3::X, Vec3::Y],
+            n: [Vec3::ZERO; 3],
+        };
+        let corners = [
+            Vec2::new(0.1, 0.2),
+            Vec2::new(0.9, 0.3),
+            Vec2::new(0.4, 1.0),
+        ];
+        // A second triangle without its own coordinates keeps barycentrics.
+        let other = Primitive::Triangle {
+            p: [
+                Vec3::new(5.0, 0.0, 0.0),
+                Vec3::new(6.0, 0.0, 0.0),
+                Vec3::new(5.0, 1.0, 0.0),
+            ],
+            n: [Vec3::ZERO; 3],
+        };
+        let g = Geometry::with_texcoords(vec![(tri, 0), (other, 1)], vec![corners, BARYCENTRIC_UV]);
+        for (b1, b2) in [
+            (0.01, 0.01),
+            (0.98, 0.01),
+            (0.01, 0.98),
+            (0.2, 0.5),
+            (0.6, 0.1),
+        ] {
+            let p = Vec3::new(b1, b2, 0.0);
+            let uv = uv_along(&g, Ray::new(p + Vec3::Z, -Vec3::Z));
+            let want = corners[0] * (1.0 - b1 - b2) + corners[1] * b1 + corners[2] * b2;
+            assert!((uv - want).length() < 1e-5, "({b1},{b2}): {uv} vs {want}");
+            let uv = uv_along(&g, Ray::new(p + Vec3::new(5.0, 0.0, 1.0), -Vec3::Z));
+            assert!((uv - Vec2::new(b1, b2)).length() < 1e-5);
+        }
+        // Area samples land where their parameters say.
+        let a = tri.sample_area(Vec2::new(0.3, 0.6));
+        assert!((Vec2::new(a.p.x, a.p.y) - a.st).length() < 1e-6);
     }
 
     #[test]

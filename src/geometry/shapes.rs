@@ -40,6 +40,9 @@ pub struct PrimitiveHit {
     pub geometric_normal: Vec3,
     /// Unit shading normal, on the same side as the geometric normal.
     pub shading_normal: Vec3,
+    /// Surface parameters of the hit: (s, t) along a parallelogram's edges,
+    /// barycentrics (b1, b2) of a triangle's second and third vertex; unused (0) on a sphere.
+    pub st: Vec2,
 }
 
 /// A point sampled uniformly by area on a primitive.
@@ -49,6 +52,8 @@ pub struct AreaSample {
     pub p: Vec3,
     /// Unit geometric normal there.
     pub n: Vec3,
+    /// Surface parameters of the point, as in [`PrimitiveHit::st`].
+    pub st: Vec2,
 }
 
 impl Primitive {
@@ -106,6 +111,7 @@ impl Primitive {
                     t,
                     geometric_normal: n,
                     shading_normal: n,
+                    st: Vec2::ZERO,
                 })
             }
             Primitive::Parallelogram {
@@ -139,6 +145,7 @@ impl Primitive {
                     t,
                     geometric_normal: n,
                     shading_normal: n,
+                    st: Vec2::new(s, r),
                 })
             }
             Primitive::Triangle { p, n } => intersect_triangle(ray, &p, &n, t_min, t_max),
@@ -153,6 +160,7 @@ impl Primitive {
                 AreaSample {
                     p: center + n * radius,
                     n,
+                    st: Vec2::ZERO,
                 }
             }
             Primitive::Parallelogram {
@@ -162,16 +170,33 @@ impl Primitive {
             } => AreaSample {
                 p: corner + edge_u * u.x + edge_v * u.y,
                 n: edge_u.cross(edge_v).normalize(),
+                st: u,
             },
             Primitive::Triangle { p, .. } => {
                 let b = warp::square_to_uniform_triangle(u);
                 AreaSample {
                     p: p[0] * (1.0 - b.x - b.y) + p[1] * b.x + p[2] * b.y,
                     n: (p[1] - p[0]).cross(p[2] - p[0]).normalize(),
+                    st: b,
                 }
             }
         }
     }
+}
+
+/// Lat-long texture coordinates of the unit outward normal `n` of a sphere:
+/// u = φ/2π with the azimuth φ from +X toward +Z, v = 1 − θ/π with θ from +Y
+/// (v = 1 at the top), the convention of environment maps.
+pub fn sphere_uv(n: Vec3) -> Vec2 {
+    let theta = (n.x * n.x + n.z * n.z).sqrt().atan2(n.y);
+    let mut phi = n.z.atan2(n.x);
+    if phi < 0.0 {
+        phi += 2.0 * std::f32::consts::PI;
+    }
+    Vec2::new(
+        phi * (0.5 * std::f32::consts::FRAC_1_PI),
+        1.0 - theta * std::f32::consts::FRAC_1_PI,
+    )
 }
 
 /// Möller–Trumbore ray/triangle test with interpolated shading normals.
@@ -220,6 +245,7 @@ fn intersect_triangle(
         t,
         geometric_normal: ng,
         shading_normal: ns,
+        st: Vec2::new(b1, b2),
     })
 }
 

@@ -168,7 +168,7 @@ fn first_vertex(scene: &Scene, ray: &Ray, sampler: &mut Sampler) -> AovSample {
         } else {
             -hit.shading_normal
         };
-        out.albedo = throughput * reflectance(&scene.shape_materials[hit.shape as usize]);
+        out.albedo = throughput * reflectance(&scene.material_at(&hit));
     }
     out
 }

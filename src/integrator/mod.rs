@@ -19,6 +19,7 @@ use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
 use crate::sampling::{power_heuristic, Sampler};
+use crate::texture::Texture;
 use direct::{direct_light, Vertex};
 pub use tracking::TransmittanceEstimator;
 use tracking::{sample_free_flight, FreeFlight};
@@ -64,6 +65,8 @@ pub struct Scene {
     pub geometry: Geometry,
     /// Material of each shape.
     pub shape_materials: Vec<Material>,
+    /// Texture of each shape's material colour (albedo, reflectance or f0), replacing its constant.
+    pub shape_textures: Vec<Option<Texture>>,
     /// Index into `lights` of each shape's area light, if it emits.
     pub shape_lights: Vec<Option<u32>>,
     /// All lights.
@@ -80,6 +83,16 @@ impl Scene {
     /// Probability of choosing any one light for next-event estimation.
     fn light_pick_probability(&self) -> f32 {
         1.0 / self.lights.len() as f32
+    }
+
+    /// The material at `hit`: the shape's, its colour looked up in the shape's texture.
+    #[inline]
+    pub fn material_at(&self, hit: &SurfaceHit) -> Material {
+        let material = self.shape_materials[hit.shape as usize];
+        match &self.shape_textures[hit.shape as usize] {
+            None => material,
+            Some(t) => material.with_color(t.eval(self.geometry.uv(hit.primitive, hit.st, hit.p))),
+        }
     }
 
     /// Radiance from infinite lights for a ray escaping along `dir`, MIS-weighted against light sampling.
@@ -257,7 +270,9 @@ fn add_surface_emission(scene: &Scene, path: &mut PathState, hit: &SurfaceHit) {
         return;
     };
     let light = &scene.lights[light_index as usize];
-    let le = light.area_radiance(hit.geometric_normal, -path.ray.direction);
+    let le = light.area_radiance(hit.geometric_normal, -path.ray.direction, || {
+        scene.geometry.uv(hit.primitive, hit.st, hit.p)
+    });
     if le.is_black() {
         return;
     }
@@ -279,7 +294,7 @@ fn surface_vertex(
     sampler: &mut Sampler,
 ) -> Step {
     let wo = -path.ray.direction;
-    let material = &scene.shape_materials[hit.shape as usize];
+    let material = &scene.material_at(hit);
     let shading = Shading::facing(hit.shading_normal, wo);
     if !material.is_delta() {
         let vertex = Vertex::Surface {

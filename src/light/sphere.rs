@@ -86,10 +86,14 @@ mod tests {
     use crate::light::Light;
     use crate::math::{Ray, Vec3};
     use crate::sampling::chi2::SphereChi2;
+    use crate::texture::Texture;
 
     fn sphere_light(center: Vec3, radius: f32, two_sided: bool) -> (Light, Geometry) {
         let geometry = Geometry::new(vec![(Primitive::Sphere { center, radius }, 0)]);
-        (Light::area(0, Rgb::WHITE, two_sided, &geometry), geometry)
+        (
+            Light::area(0, Texture::Constant(Rgb::WHITE), two_sided, &geometry),
+            geometry,
+        )
     }
 
     /// The density of `sample` equals `area_pdf` at the hit point of each direction (what MIS uses).

@@ -143,6 +143,28 @@ impl Material {
         }
     }
 
+    /// The same material with its colour parameter (diffuse and Phong albedo,
+    /// mirror reflectance, Schlick F0) set to `color`; others are returned as they are.
+    #[inline]
+    pub fn with_color(self, color: Rgb) -> Material {
+        match self {
+            Material::Diffuse { .. } => Material::Diffuse { albedo: color },
+            Material::Phong { exponent, .. } => Material::Phong {
+                albedo: color,
+                exponent,
+            },
+            Material::Mirror { .. } => Material::Mirror { reflectance: color },
+            Material::Conductor {
+                alpha,
+                fresnel: ConductorFresnel::Schlick { .. },
+            } => Material::Conductor {
+                alpha,
+                fresnel: ConductorFresnel::Schlick { f0: color },
+            },
+            other => other,
+        }
+    }
+
     /// `f(wo, wi) · |cosθi|`; zero for directions the lobe does not reach.
     pub fn eval(&self, sp: &Shading, wo: Vec3, wi: Vec3) -> Rgb {
         let n = sp.n;

@@ -47,6 +47,105 @@ impl<'de> Deserialize<'de> for Color {
     }
 }
 
+/// A colour parameter written as a colour (number or `[r, g, b]`) or as a
+/// texture table `{ type = "image", ... }` / `{ type = "checkerboard", ... }`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColorOrTexture {
+    /// A constant colour.
+    Color(Color),
+    /// A texture.
+    Texture(TextureDesc),
+}
+
+impl From<Color> for ColorOrTexture {
+    fn from(c: Color) -> ColorOrTexture {
+        ColorOrTexture::Color(c)
+    }
+}
+
+impl ColorOrTexture {
+    /// The file of an image texture.
+    pub fn file(&self) -> Option<&std::path::Path> {
+        match self {
+            ColorOrTexture::Texture(t) => t.file.as_deref(),
+            ColorOrTexture::Color(_) => None,
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for ColorOrTexture {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<ColorOrTexture, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = ColorOrTexture;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "a number, an array [r, g, b] or a texture table like \
+                     { type = \"image\", file = \"wood.png\" }",
+                )
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<ColorOrTexture, E> {
+                Ok(ColorOrTexture::Color(Color([v as f32; 3])))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<ColorOrTexture, E> {
+                Ok(ColorOrTexture::Color(Color([v as f32; 3])))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<ColorOrTexture, E> {
+                Ok(ColorOrTexture::Color(Color([v as f32; 3])))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<ColorOrTexture, A::Error> {
+                Color::deserialize(de::value::SeqAccessDeserializer::new(seq))
+                    .map(ColorOrTexture::Color)
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<ColorOrTexture, A::Error> {
+                TextureDesc::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(ColorOrTexture::Texture)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A texture table; which keys apply depends on `type` (checked when the scene is built).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TextureDesc {
+    /// `image` or `checkerboard`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// PNG or EXR file, relative to the scene file (image).
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+    /// `repeat` (default) or `clamp` (image).
+    #[serde(default)]
+    pub wrap: Option<String>,
+    /// `srgb` (PNG default) or `linear` (image).
+    #[serde(default)]
+    pub color_space: Option<String>,
+    /// Factor on the texels (image; default 1).
+    #[serde(default)]
+    pub scale: Option<Color>,
+    /// Colour of the square at the UV origin (checkerboard).
+    #[serde(default)]
+    pub a: Option<Color>,
+    /// Colour of the other squares (checkerboard).
+    #[serde(default)]
+    pub b: Option<Color>,
+    /// Factor on the texture coordinates: a number or `[su, sv]` (default 1).
+    #[serde(default)]
+    pub uv_scale: Option<UvScale>,
+}
+
+/// `uv_scale`: one number for both axes or `[su, sv]`.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum UvScale {
+    /// The same factor on u and v.
+    Both(f32),
+    /// Factors on u and v.
+    Each([f32; 2]),
+}
+
 /// The whole scene file.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -291,12 +390,12 @@ pub enum MaterialDesc {
     /// Lambertian.
     Diffuse {
         /// Reflectance in [0, 1].
-        albedo: Color,
+        albedo: ColorOrTexture,
     },
     /// Normalized Phong glossy lobe.
     Phong {
         /// Reflectance in [0, 1].
-        albedo: Color,
+        albedo: ColorOrTexture,
         /// Lobe exponent (≥ 0).
         exponent: f32,
     },
@@ -304,7 +403,7 @@ pub enum MaterialDesc {
     Mirror {
         /// Reflectance in [0, 1].
         #[serde(default = "default_reflectance")]
-        reflectance: Color,
+        reflectance: ColorOrTexture,
     },
     /// Glass-like interface: smooth (alpha = 0) or GGX-rough.
     Dielectric {
@@ -328,7 +427,7 @@ pub enum MaterialDesc {
         k: Option<Color>,
         /// Reflectance at normal incidence (Schlick), instead of eta and k.
         #[serde(default)]
-        f0: Option<Color>,
+        f0: Option<ColorOrTexture>,
     },
 }
 
@@ -336,8 +435,8 @@ fn default_ior() -> f32 {
     1.5
 }
 
-fn default_reflectance() -> Color {
-    Color([1.0; 3])
+fn default_reflectance() -> ColorOrTexture {
+    ColorOrTexture::Color(Color([1.0; 3]))
 }
 
 /// `[[shape]]`: geometry with a material and optional emission.
@@ -371,9 +470,9 @@ pub struct ShapeDesc {
     /// Surface material (default: diffuse, albedo 0.5).
     #[serde(default)]
     pub material: Option<MaterialDesc>,
-    /// Emitted radiance: makes the shape an area light.
+    /// Emitted radiance (a colour or a texture): makes the shape an area light.
     #[serde(default)]
-    pub emission: Option<Color>,
+    pub emission: Option<ColorOrTexture>,
     /// Emit from both sides.
     #[serde(default)]
     pub two_sided: bool,
@@ -383,6 +482,35 @@ pub struct ShapeDesc {
     /// A medium filling the shape: read so that it can be refused clearly (not supported yet).
     #[serde(default)]
     pub interior: Option<serde::de::IgnoredAny>,
+}
+
+impl ShapeDesc {
+    /// The colour parameters of the shape that may hold a texture, with their keys.
+    pub fn colors(&self) -> Vec<(&'static str, &ColorOrTexture)> {
+        let mut out = Vec::new();
+        match &self.material {
+            Some(MaterialDesc::Diffuse { albedo }) | Some(MaterialDesc::Phong { albedo, .. }) => {
+                out.push(("material.albedo", albedo))
+            }
+            Some(MaterialDesc::Mirror { reflectance }) => {
+                out.push(("material.reflectance", reflectance))
+            }
+            Some(MaterialDesc::Conductor { f0: Some(f0), .. }) => out.push(("material.f0", f0)),
+            _ => {}
+        }
+        if let Some(e) = &self.emission {
+            out.push(("emission", e));
+        }
+        out
+    }
+
+    /// The image files of the shape's textures (as written).
+    pub fn texture_files(&self) -> Vec<&std::path::Path> {
+        self.colors()
+            .into_iter()
+            .filter_map(|(_, c)| c.file())
+            .collect()
+    }
 }
 
 /// The kinds of shape.

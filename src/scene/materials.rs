@@ -2,6 +2,7 @@
 
 use super::description::Color;
 use super::validate::Check;
+use crate::color::Rgb;
 use crate::error::Result;
 use crate::material::{ConductorFresnel, Material, MIN_ALPHA};
 
@@ -33,7 +34,7 @@ pub(super) fn conductor(
     a: f32,
     eta: Option<Color>,
     k: Option<Color>,
-    f0: Option<Color>,
+    f0: Option<Rgb>,
 ) -> Result<Material> {
     let f = |key: &str| format!("{field}.{key}");
     let fresnel = match (eta, k, f0) {
@@ -47,9 +48,8 @@ pub(super) fn conductor(
                 k: check.color(&f("k"), k)?,
             }
         }
-        (None, None, Some(f0)) => ConductorFresnel::Schlick {
-            f0: check.albedo(&f("f0"), f0)?,
-        },
+        // f0 was checked (as a reflectance or texture) by the caller.
+        (None, None, Some(f0)) => ConductorFresnel::Schlick { f0 },
         (Some(_), None, None) => return Err(check.error(&f("k"), "missing (eta needs k)")),
         (None, Some(_), None) => return Err(check.error(&f("eta"), "missing (k needs eta)")),
         (None, None, None) => {

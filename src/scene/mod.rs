@@ -8,6 +8,7 @@ mod fog;
 mod materials;
 mod media;
 mod shapes;
+mod textures;
 mod validate;
 pub mod vdb;
 
@@ -19,7 +20,8 @@ use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light};
 use crate::material::Material;
-use description::{LightDesc, MaterialDesc, SceneDesc};
+use crate::texture::Texture;
+use description::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
 use std::path::{Path, PathBuf};
 use validate::Check;
 
@@ -32,7 +34,7 @@ pub fn load(path: &Path) -> Result<Scene> {
 pub struct Loaded {
     /// The scene.
     pub scene: Scene,
-    /// Every file the scene reads: the scene file, its OBJ and VDB files.
+    /// Every file the scene reads: the scene file, its OBJ, texture and VDB files.
     pub inputs: Vec<PathBuf>,
     /// Warnings, each `FILE: FIELD: message`: valid values that probably are not what was meant.
     pub warnings: Vec<String>,
@@ -64,6 +66,12 @@ pub fn load_frame_with_inputs(path: &Path, frame: Option<i64>) -> Result<Loaded>
         desc.shapes
             .iter()
             .filter_map(|s| s.file.as_ref())
+            .map(|f| resolve(&base, f)),
+    );
+    inputs.extend(
+        desc.shapes
+            .iter()
+            .flat_map(|s| s.texture_files())
             .map(|f| resolve(&base, f)),
     );
     inputs.extend(desc.media.iter().filter_map(|m| match m {
@@ -337,24 +345,52 @@ pub fn build_frame(
     };
 
     let mut items = Vec::new();
+    let mut texcoords = Vec::new();
+    let mut any_vt = false;
     let mut shape_materials = Vec::with_capacity(desc.shapes.len());
+    let mut shape_textures = Vec::with_capacity(desc.shapes.len());
+    let mut emissions = Vec::with_capacity(desc.shapes.len());
+    let mut images = textures::ImageCache::default();
     for (i, shape) in desc.shapes.iter().enumerate() {
         let field = format!("shape[{i}]");
-        let prims = shapes::build_shape(shape, &field, &check, base)?;
-        items.extend(prims.into_iter().map(|p| (p, i as u32)));
-        shape_materials.push(build_material(shape.material.as_ref(), &field, &check)?);
+        let built = shapes::build_shape(shape, &field, &check, base)?;
+        require_uv(shape, &field, built.texcoords.is_some(), &check, base)?;
+        let n = built.primitives.len();
+        items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
+        any_vt |= built.texcoords.is_some();
+        match built.texcoords {
+            Some(t) => texcoords.extend(t),
+            None => texcoords.extend(std::iter::repeat_n(crate::geometry::BARYCENTRIC_UV, n)),
+        }
+        let (material, texture) =
+            build_material(shape.material.as_ref(), &field, &check, base, &mut images)?;
+        shape_materials.push(material);
+        shape_textures.push(texture);
+        let emission = match &shape.emission {
+            Some(e) => Some(textures::build(
+                &check,
+                &format!("{field}.emission"),
+                e,
+                textures::Range::Radiance,
+                base,
+                &mut images,
+            )?),
+            None => None,
+        };
+        emissions.push(emission);
     }
-    let geometry = Geometry::new(items);
+    if !any_vt {
+        // Only OBJ corners carry coordinates of their own: keep no table without them.
+        texcoords = Vec::new();
+    }
+    let geometry = Geometry::with_texcoords(items, texcoords);
 
     let mut lights = Vec::new();
     let mut shape_lights = vec![None; desc.shapes.len()];
-    for (i, shape) in desc.shapes.iter().enumerate() {
-        if let Some(emission) = shape.emission {
-            let radiance = check.color(&format!("shape[{i}].emission"), emission)?;
-            if !radiance.is_black() {
-                shape_lights[i] = Some(lights.len() as u32);
-                lights.push(Light::area(i as u32, radiance, shape.two_sided, &geometry));
-            }
+    for (i, (shape, emission)) in desc.shapes.iter().zip(emissions).enumerate() {
+        if let Some(radiance) = emission.filter(|e| e.max_channel() > 0.0) {
+            shape_lights[i] = Some(lights.len() as u32);
+            lights.push(Light::area(i as u32, radiance, shape.two_sided, &geometry));
         }
     }
     let mut environments = 0;
@@ -392,6 +428,7 @@ pub fn build_frame(
         camera,
         geometry,
         shape_materials,
+        shape_textures,
         shape_lights,
         lights,
         media,
@@ -484,29 +521,84 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
 }
 
-fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Result<Material> {
+/// Refuses a texture that needs texture coordinates on a mesh whose OBJ file has none.
+fn require_uv(
+    shape: &ShapeDesc,
+    field: &str,
+    has_vt: bool,
+    check: &Check,
+    base: &Path,
+) -> Result<()> {
+    let (Some(file), false) = (&shape.file, has_vt) else {
+        return Ok(());
+    };
+    let textured = shape
+        .colors()
+        .into_iter()
+        .find(|(_, c)| matches!(c, description::ColorOrTexture::Texture(_)));
+    match textured {
+        Some((key, _)) => Err(check.error(
+            &format!("{field}.{key}"),
+            format!(
+                "a texture needs texture coordinates, but OBJ file {} has no `vt` lines (in every model)",
+                resolve(base, file).display()
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The material of a shape and the texture of its colour parameter, if it has one.
+fn build_material(
+    desc: Option<&MaterialDesc>,
+    field: &str,
+    check: &Check,
+    base: &Path,
+    images: &mut textures::ImageCache,
+) -> Result<(Material, Option<Texture>)> {
     let field = format!("{field}.material");
-    Ok(match desc {
+    // A constant stays in the material; a texture replaces it at every hit.
+    let mut texture = None;
+    let mut color = |key: &str, value: &description::ColorOrTexture| -> Result<Rgb> {
+        let t = textures::build(
+            check,
+            &format!("{field}.{key}"),
+            value,
+            textures::Range::Albedo,
+            base,
+            images,
+        )?;
+        Ok(match t.constant() {
+            Some(c) => c,
+            None => {
+                texture = Some(t);
+                Rgb::WHITE
+            }
+        })
+    };
+    let material = match desc {
         None => Material::Diffuse {
             albedo: Rgb::splat(0.5),
         },
         Some(MaterialDesc::Diffuse { albedo }) => Material::Diffuse {
-            albedo: check.albedo(&format!("{field}.albedo"), *albedo)?,
+            albedo: color("albedo", albedo)?,
         },
         Some(MaterialDesc::Phong { albedo, exponent }) => Material::Phong {
-            albedo: check.albedo(&format!("{field}.albedo"), *albedo)?,
+            albedo: color("albedo", albedo)?,
             exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
         },
         Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
-            reflectance: check.albedo(&format!("{field}.reflectance"), *reflectance)?,
+            reflectance: color("reflectance", reflectance)?,
         },
         Some(MaterialDesc::Dielectric { ior, alpha }) => {
             materials::dielectric(check, &field, *ior, *alpha)?
         }
         Some(MaterialDesc::Conductor { alpha, eta, k, f0 }) => {
-            materials::conductor(check, &field, *alpha, *eta, *k, *f0)?
+            let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
+            materials::conductor(check, &field, *alpha, *eta, *k, f0)?
         }
-    })
+    };
+    Ok((material, texture))
 }
 
 fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {

@@ -5,7 +5,7 @@ use super::resolve;
 use super::validate::Check;
 use crate::error::{Error, Result};
 use crate::geometry::Primitive;
-use crate::math::{Affine3A, Frame, Quat, Vec3};
+use crate::math::{Affine3A, Frame, Quat, Vec2, Vec3};
 use std::path::Path;
 
 /// The affine map of a `transform = { ... }` table (identity when absent).
@@ -79,13 +79,22 @@ fn required<T: Copy>(v: Option<T>, field: &str, key: &str, check: &Check) -> Res
     v.ok_or_else(|| check.error(&format!("{field}.{key}"), "missing"))
 }
 
+/// The primitives of one shape, with texture coordinates.
+pub(crate) struct BuiltShape {
+    /// Primitives in world space.
+    pub primitives: Vec<Primitive>,
+    /// Per-corner texture coordinates of each triangle of a mesh with `vt`
+    /// lines; `None` for a mesh without (built-in shapes have their own, see `Geometry::uv`).
+    pub texcoords: Option<Vec<[Vec2; 3]>>,
+}
+
 /// The primitives of one shape entry, in world space.
 pub(crate) fn build_shape(
     shape: &ShapeDesc,
     field: &str,
     check: &Check,
     base: &Path,
-) -> Result<Vec<Primitive>> {
+) -> Result<BuiltShape> {
     reject_foreign_keys(shape, field, check)?;
     if shape.interior.is_some() {
         return Err(check.error(
@@ -113,7 +122,7 @@ pub(crate) fn build_shape(
         edge_u: m.transform_vector3(eu),
         edge_v: m.transform_vector3(ev),
     };
-    Ok(match shape.kind {
+    let primitives = match shape.kind {
         ShapeType::Sphere => {
             let radius = check.positive(
                 &format!("{field}.radius"),
@@ -178,16 +187,20 @@ pub(crate) fn build_shape(
                 .as_ref()
                 .ok_or_else(|| check.error(&format!("{field}.file"), "missing"))?;
             let path = resolve(base, file);
-            load_obj(&path, &m, &format!("{field}.file"), check)?
+            return load_obj(&path, &m, &format!("{field}.file"), check);
         }
+    };
+    Ok(BuiltShape {
+        primitives,
+        texcoords: None,
     })
 }
 
 /// Largest OBJ file read (a few tens of millions of triangles).
 const MAX_OBJ_BYTES: u64 = 2 << 30;
 
-/// Triangles of an OBJ file, transformed by `m`.
-fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Vec<Primitive>> {
+/// Triangles of an OBJ file, transformed by `m`, with their `vt` coordinates if every model has them.
+fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<BuiltShape> {
     if let Some(problem) = crate::error::input_file_problem(path, MAX_OBJ_BYTES) {
         return Err(check.error(
             field,
@@ -205,8 +218,19 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Vec
     })?;
     let normal_matrix = m.matrix3.inverse().transpose();
     let mut prims = Vec::new();
+    let mut texcoords = Vec::new();
+    let mut all_have_uv = true;
     for model in &models {
         let mesh = &model.mesh;
+        let has_uv = !mesh.texcoords.is_empty();
+        all_have_uv &= has_uv;
+        let uv = |i: u32| -> Option<Vec2> {
+            let k = 2 * i as usize;
+            Some(Vec2::new(
+                *mesh.texcoords.get(k)?,
+                *mesh.texcoords.get(k + 1)?,
+            ))
+        };
         let vertex = |i: u32| -> Option<Vec3> {
             let k = 3 * i as usize;
             let p = Vec3::new(
@@ -246,6 +270,27 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Vec
                 p,
                 n: [normal(tri[0]), normal(tri[1]), normal(tri[2])],
             });
+            if has_uv {
+                let t = [uv(tri[0]), uv(tri[1]), uv(tri[2])];
+                let [Some(a), Some(b), Some(c)] = t else {
+                    return Err(Error::Input {
+                        path: path.to_path_buf(),
+                        message: format!(
+                            "model {:?}: texture coordinate index out of range",
+                            model.name
+                        ),
+                    });
+                };
+                if !(a.is_finite() && b.is_finite() && c.is_finite()) {
+                    return Err(Error::Input {
+                        path: path.to_path_buf(),
+                        message: format!("model {:?}: non-finite texture coordinate", model.name),
+                    });
+                }
+                texcoords.push([a, b, c]);
+            } else {
+                texcoords.push(crate::geometry::BARYCENTRIC_UV);
+            }
         }
     }
     if prims.is_empty() {
@@ -254,5 +299,8 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Vec
             message: "OBJ file holds no triangles".into(),
         });
     }
-    Ok(prims)
+    Ok(BuiltShape {
+        primitives: prims,
+        texcoords: all_have_uv.then_some(texcoords),
+    })
 }

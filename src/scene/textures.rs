@@ -1,0 +1,315 @@
+//! Colour parameters written as textures: `{ type = "image", file = ... }`
+//! and `{ type = "checkerboard", a, b }`, read and checked once at scene load.
+
+use super::description::{Color, ColorOrTexture, TextureDesc, UvScale};
+use super::resolve;
+use super::validate::Check;
+use crate::color::{srgb_to_linear, Rgb};
+use crate::error::Result;
+use crate::math::Vec2;
+use crate::texture::{Image, Texture, Wrap};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Which values a colour parameter may take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Range {
+    /// A reflectance: every channel in [0, 1].
+    Albedo,
+    /// A radiance: every channel finite and ≥ 0.
+    Radiance,
+}
+
+/// Largest texture file read.
+const MAX_TEXTURE_BYTES: u64 = 1 << 30;
+
+/// Images already read in this scene, so that a file used twice is decoded once.
+#[derive(Default)]
+pub(super) struct ImageCache {
+    images: Vec<((PathBuf, Wrap, bool), Arc<Image>)>,
+}
+
+/// Builds the colour parameter `value` written at `field`.
+pub(super) fn build(
+    check: &Check,
+    field: &str,
+    value: &ColorOrTexture,
+    range: Range,
+    base: &Path,
+    cache: &mut ImageCache,
+) -> Result<Texture> {
+    let desc = match value {
+        ColorOrTexture::Color(c) => return Ok(Texture::Constant(color(check, field, *c, range)?)),
+        ColorOrTexture::Texture(t) => t,
+    };
+    let f = |key: &str| format!("{field}.{key}");
+    let used: &[&str] = match desc.kind.as_str() {
+        "image" => &["file", "wrap", "color_space", "scale", "uv_scale"],
+        "checkerboard" => &["a", "b", "uv_scale"],
+        other => {
+            return Err(check.error(
+                &f("type"),
+                format!("unknown texture type `{other}`, expected \"image\" or \"checkerboard\""),
+            ))
+        }
+    };
+    reject_foreign_keys(check, field, desc, used)?;
+    let uv_scale = uv_scale(check, &f("uv_scale"), desc.uv_scale)?;
+    if desc.kind == "checkerboard" {
+        let get = |key: &str, c: Option<Color>| {
+            c.ok_or_else(|| check.error(&f(key), "missing"))
+                .and_then(|c| color(check, &f(key), c, range))
+        };
+        return Ok(Texture::Checkerboard {
+            a: get("a", desc.a)?,
+            b: get("b", desc.b)?,
+            uv_scale,
+        });
+    }
+    let scale = match desc.scale {
+        Some(s) => check.color(&f("scale"), s)?,
+        None => Rgb::WHITE,
+    };
+    let image = image(check, field, desc, base, cache)?;
+    if range == Range::Albedo {
+        check_albedo_texels(check, &f("file"), &image, scale, desc)?;
+    }
+    Ok(Texture::Image {
+        image,
+        scale,
+        uv_scale,
+    })
+}
+
+/// A constant colour in `range`.
+fn color(check: &Check, field: &str, c: Color, range: Range) -> Result<Rgb> {
+    match range {
+        Range::Albedo => check.albedo(field, c),
+        Range::Radiance => check.color(field, c),
+    }
+}
+
+fn reject_foreign_keys(
+    check: &Check,
+    field: &str,
+    desc: &TextureDesc,
+    used: &[&str],
+) -> Result<()> {
+    let present = [
+        ("file", desc.file.is_some()),
+        ("wrap", desc.wrap.is_some()),
+        ("color_space", desc.color_space.is_some()),
+        ("scale", desc.scale.is_some()),
+        ("a", desc.a.is_some()),
+        ("b", desc.b.is_some()),
+        ("uv_scale", desc.uv_scale.is_some()),
+    ];
+    for (key, set) in present {
+        if set && !used.contains(&key) {
+            return Err(check.error(
+                &format!("{field}.{key}"),
+                format!("unknown key for a texture of type {}", desc.kind),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn uv_scale(check: &Check, field: &str, s: Option<UvScale>) -> Result<Vec2> {
+    let [su, sv] = match s {
+        None => return Ok(Vec2::ONE),
+        Some(UvScale::Both(v)) => [v; 2],
+        Some(UvScale::Each(v)) => v,
+    };
+    for (i, v) in [su, sv].into_iter().enumerate() {
+        let name = match s {
+            Some(UvScale::Each(_)) => format!("{field}[{i}]"),
+            _ => field.to_string(),
+        };
+        if check.finite(&name, v)? == 0.0 {
+            return Err(check.error(&name, "must not be 0"));
+        }
+    }
+    Ok(Vec2::new(su, sv))
+}
+
+/// The image of an `image` texture, from the cache or its file.
+fn image(
+    check: &Check,
+    field: &str,
+    desc: &TextureDesc,
+    base: &Path,
+    cache: &mut ImageCache,
+) -> Result<Arc<Image>> {
+    let file_field = format!("{field}.file");
+    let file = desc
+        .file
+        .as_ref()
+        .ok_or_else(|| check.error(&file_field, "missing"))?;
+    let path = resolve(base, file);
+    let wrap = match desc.wrap.as_deref() {
+        None | Some("repeat") => Wrap::Repeat,
+        Some("clamp") => Wrap::Clamp,
+        Some(other) => {
+            return Err(check.error(
+                &format!("{field}.wrap"),
+                format!("unknown wrap mode `{other}`, expected \"repeat\" or \"clamp\""),
+            ))
+        }
+    };
+    let exr = match path.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("exr") => true,
+        Some(e) if e.eq_ignore_ascii_case("png") => false,
+        _ => {
+            return Err(check.error(
+                &file_field,
+                format!("texture {} is not a .png or .exr file", path.display()),
+            ))
+        }
+    };
+    let srgb = match (desc.color_space.as_deref(), exr) {
+        (None, exr) => !exr,
+        (Some("linear"), _) => false,
+        (Some("srgb"), false) => true,
+        (Some("srgb"), true) => {
+            return Err(check.error(
+                &format!("{field}.color_space"),
+                "EXR files hold linear values; color_space = \"srgb\" applies to PNG only",
+            ))
+        }
+        (Some(other), _) => {
+            return Err(check.error(
+                &format!("{field}.color_space"),
+                format!("unknown colour space `{other}`, expected \"srgb\" or \"linear\""),
+            ))
+        }
+    };
+    let key = (path.clone(), wrap, srgb);
+    if let Some((_, image)) = cache.images.iter().find(|(k, _)| *k == key) {
+        return Ok(image.clone());
+    }
+    let read_error = |message: String| {
+        check.error(
+            &file_field,
+            format!("cannot read texture {}: {message}", path.display()),
+        )
+    };
+    if let Some(problem) = crate::error::input_file_problem(&path, MAX_TEXTURE_BYTES) {
+        return Err(read_error(problem));
+    }
+    let (width, height, texels) = if exr {
+        read_exr_texels(&path).map_err(read_error)?
+    } else {
+        read_png_texels(&path, srgb).map_err(read_error)?
+    };
+    if let Some(i) = texels
+        .iter()
+        .position(|t| !t.is_finite() || t.min_channel() < 0.0)
+    {
+        return Err(check.error(
+            &file_field,
+            format!(
+                "texel ({}, {}) of {} is negative or not finite",
+                i % width,
+                i / width,
+                path.display()
+            ),
+        ));
+    }
+    let image = Arc::new(
+        Image::new(width, height, texels, wrap)
+            .ok_or_else(|| read_error("the image is empty".into()))?,
+    );
+    cache.images.push((key, image.clone()));
+    Ok(image)
+}
+
+/// Linear texels of a PNG: grey or RGB, an alpha channel only if opaque everywhere.
+fn read_png_texels(
+    path: &Path,
+    srgb: bool,
+) -> std::result::Result<(usize, usize, Vec<Rgb>), String> {
+    let png = crate::image_io::read_png(path).map_err(|e| match e {
+        crate::error::Error::Input { message, .. } => message,
+        other => other.to_string(),
+    })?;
+    let c = png.channels;
+    let colour = if c <= 2 { 1 } else { 3 };
+    if c == 2 || c == 4 {
+        if let Some(i) = png.values.chunks_exact(c).position(|p| p[c - 1] < 1.0) {
+            return Err(format!(
+                "pixel ({}, {}) is not opaque: alpha (transparency) is not supported, save the PNG without it",
+                i % png.width,
+                i / png.width
+            ));
+        }
+    }
+    let decode = |v: f32| if srgb { srgb_to_linear(v) } else { v };
+    let texels = png
+        .values
+        .chunks_exact(c)
+        .map(|p| {
+            let v = |k: usize| decode(p[k.min(colour - 1)]);
+            Rgb::new(v(0), v(1), v(2))
+        })
+        .collect();
+    Ok((png.width, png.height, texels))
+}
+
+/// Texels of an EXR: channels R, G, B, or Y alone for grey.
+fn read_exr_texels(path: &Path) -> std::result::Result<(usize, usize, Vec<Rgb>), String> {
+    let (width, height, channels) =
+        crate::image_io::read_exr_channels(path).map_err(|e| match e {
+            crate::error::Error::Input { message, .. } => message,
+            other => other.to_string(),
+        })?;
+    let find = |name: &str| channels.iter().find(|(n, _)| n == name).map(|(_, v)| v);
+    let planes = match (find("R"), find("G"), find("B"), find("Y")) {
+        (Some(r), Some(g), Some(b), _) => [r, g, b],
+        (None, None, None, Some(y)) => [y, y, y],
+        _ => {
+            let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+            return Err(format!(
+                "needs channels R, G and B (or Y for grey), found [{}]",
+                names.join(", ")
+            ));
+        }
+    };
+    if planes.iter().any(|p| p.len() != width * height) {
+        return Err("channel sizes do not match the image".into());
+    }
+    let texels = (0..width * height)
+        .map(|i| Rgb::new(planes[0][i], planes[1][i], planes[2][i]))
+        .collect();
+    Ok((width, height, texels))
+}
+
+/// An albedo texture's texels times `scale` must stay within [0, 1].
+fn check_albedo_texels(
+    check: &Check,
+    field: &str,
+    image: &Image,
+    scale: Rgb,
+    desc: &TextureDesc,
+) -> Result<()> {
+    for j in 0..image.height() {
+        for i in 0..image.width() {
+            let v = image.texel(i, j) * scale;
+            if v.max_channel() > 1.0 {
+                let scaled = if desc.scale.is_some() {
+                    " times scale"
+                } else {
+                    ""
+                };
+                return Err(check.error(
+                    field,
+                    format!(
+                        "texel ({i}, {j}){scaled} is {:?}, above 1: a reflectance must be at most 1 in every channel",
+                        v.to_array()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
