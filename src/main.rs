@@ -802,4 +802,11 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
             brume::integrator::tracking::MAX_TENTATIVE_COLLISIONS
         );
     }
+    if out.truncated_interiors > 0 {
+        eprintln!(
+            "warning: {} rays crossed a shape with an interior more than {} times; past the last              kept crossing the medium was taken as absent (the image is biased there)",
+            out.truncated_interiors,
+            brume::geometry::closed::MAX_CROSSINGS
+        );
+    }
 }

@@ -51,6 +51,8 @@ pub struct RenderOutput {
     pub tracking: TrackingStats,
     /// Rays ended by the tracking cap (`tracking::MAX_TENTATIVE_COLLISIONS`).
     pub capped_rays: u64,
+    /// Interior interval queries cut short by `geometry::closed::MAX_CROSSINGS`.
+    pub truncated_interiors: u64,
 }
 
 /// Per-pixel running sums.
@@ -175,6 +177,7 @@ pub fn render_part(
         .build()
         .expect("thread pool");
     let capped_before = crate::integrator::tracking::capped_rays();
+    let truncated_before = crate::medium::interior::truncated_queries();
     let spp_total = options.spp;
     let options = RenderOptions {
         spp: part.samples.len(),
@@ -188,6 +191,7 @@ pub fn render_part(
         provenance.spp_total = provenance.spp_total.max(spp_total);
     }
     out.capped_rays = crate::integrator::tracking::capped_rays() - capped_before;
+    out.truncated_interiors = crate::medium::interior::truncated_queries() - truncated_before;
     out
 }
 
@@ -296,6 +300,7 @@ fn render_in_pool(
         samples: spp_done as u64 * (w * h) as u64,
         tracking,
         capped_rays: 0,
+        truncated_interiors: 0,
     }
 }
 

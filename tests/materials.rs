@@ -298,8 +298,8 @@ fn bad_material_keys_name_the_key() {
         ),
         ("{ type = \"conductor\", f0 = 1.5 }", "shape[0].material.f0"),
         (
-            "{ type = \"dielectric\" }\ninterior = { type = \"homogeneous\", sigma_t = 1.0 }",
-            "shape[0].interior: media bounded by shapes are not supported yet",
+            "{ type = \"diffuse\" }\ninterior = { type = \"homogeneous\", sigma_t = 1.0 }",
+            "shape[0].material: a shape with an interior needs a dielectric material",
         ),
     ] {
         let desc = brume::scene::parse(&furnace_scene(material), file).unwrap();

@@ -1,5 +1,6 @@
 //! Shapes, intersection records and the BVH (obvhs) over all primitives.
 
+pub mod closed;
 pub mod shapes;
 
 pub use shapes::{sphere_uv, AreaSample, Primitive, PrimitiveHit};
@@ -157,6 +158,19 @@ impl Geometry {
             shape: self.primitive_shape[hit.primitive_id as usize],
             st: h.st,
         })
+    }
+
+    /// Calls `hit(t, geometric_normal)` for every primitive the ray meets in `(0, t_max)`, in no order.
+    pub fn for_each_hit(&self, ray: &Ray, t_max: f32, mut hit: impl FnMut(f32, Vec3)) {
+        let Some(bvh) = self.bvh.as_ref() else {
+            return;
+        };
+        let bvh_ray = BvhRay::new(ray.origin.into(), ray.direction.into(), T_MIN, t_max);
+        bvh.ray_traverse_anyhit(bvh_ray, |_, id| {
+            if let Some(h) = self.primitives[id].intersect(ray, T_MIN, t_max) {
+                hit(h.t, h.geometric_normal);
+            }
+        });
     }
 
     /// True when anything blocks the ray before `t_max`.

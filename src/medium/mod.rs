@@ -10,6 +10,7 @@ pub mod blackbody;
 pub mod grid;
 pub mod height_fog;
 pub mod homogeneous;
+pub mod interior;
 pub mod majorant_grid;
 pub mod motion;
 pub mod phase;
@@ -18,6 +19,7 @@ pub mod region;
 pub use grid::{GridEmission, GridMedium, GridMediumParams, MajorantMode};
 pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
+pub use interior::{InteriorContent, InteriorMedium, ShapeMask};
 pub use motion::GridMotion;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
@@ -74,6 +76,8 @@ pub enum MajorantIter<'a> {
     Fog(height_fog::FogSegments),
     /// A DDA over the majorant cells of a grid medium.
     Grid(grid::GridMajorants<'a>),
+    /// A medium's segments clipped to the inside of its shape.
+    Masked(interior::MaskedMajorants<'a>),
 }
 
 impl Iterator for MajorantIter<'_> {
@@ -84,6 +88,7 @@ impl Iterator for MajorantIter<'_> {
             MajorantIter::Single(s) => s.take(),
             MajorantIter::Fog(f) => f.next(),
             MajorantIter::Grid(g) => g.next(),
+            MajorantIter::Masked(m) => m.next(),
         }
     }
 }
@@ -97,6 +102,8 @@ pub enum Medium {
     HeightFog(HeightFog),
     /// Density from a sparse grid (OpenVDB), tracked over a majorant grid.
     Grid(std::sync::Arc<GridMedium>),
+    /// A homogeneous or grid medium inside a closed shape (see [`interior`]).
+    Interior(std::sync::Arc<InteriorMedium>),
 }
 
 impl Medium {
@@ -110,6 +117,7 @@ impl Medium {
             Medium::Homogeneous(m) => m.properties(p),
             Medium::HeightFog(m) => m.properties(p),
             Medium::Grid(m) => m.properties_at(p, time),
+            Medium::Interior(m) => m.properties(p, time),
         }
     }
 
@@ -126,6 +134,10 @@ impl Medium {
                 p.sigma_a + p.sigma_s
             }
             Medium::Grid(m) => m.sigma_t(p),
+            Medium::Interior(m) => {
+                let p = m.properties(p, 0.0);
+                p.sigma_a + p.sigma_s
+            }
         }
     }
 
@@ -136,6 +148,7 @@ impl Medium {
             Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
             Medium::HeightFog(m) => MajorantIter::Fog(m.majorants(ray, t_max)),
             Medium::Grid(m) => MajorantIter::Grid(m.majorants(ray, t_max)),
+            Medium::Interior(m) => MajorantIter::Masked(m.majorants(ray, t_max)),
         }
     }
 
@@ -146,6 +159,7 @@ impl Medium {
             Medium::Homogeneous(m) => Some(m.optical_depth(ray, t0, t1)),
             Medium::HeightFog(m) => Some(m.optical_depth(ray, t0, t1)),
             Medium::Grid(_) => None,
+            Medium::Interior(m) => m.optical_depth(ray, t0, t1),
         }
     }
 
@@ -155,6 +169,7 @@ impl Medium {
             Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
             Medium::HeightFog(m) => m.is_emissive(),
             Medium::Grid(m) => m.is_emissive(),
+            Medium::Interior(m) => m.is_emissive(),
         }
     }
 }

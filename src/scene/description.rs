@@ -479,9 +479,9 @@ pub struct ShapeDesc {
     /// Placement applied to the shape.
     #[serde(default)]
     pub transform: Option<TransformDesc>,
-    /// A medium filling the shape: read so that it can be refused clearly (not supported yet).
+    /// A medium filling the (closed) shape: homogeneous or vdb, see `scene::interior`.
     #[serde(default)]
-    pub interior: Option<serde::de::IgnoredAny>,
+    pub interior: Option<MediumDesc>,
 }
 
 impl ShapeDesc {

@@ -5,6 +5,7 @@ pub mod animation;
 pub mod description;
 mod envmap;
 mod fog;
+mod interior;
 mod materials;
 mod media;
 mod shapes;
@@ -74,7 +75,8 @@ pub fn load_frame_with_inputs(path: &Path, frame: Option<i64>) -> Result<Loaded>
             .flat_map(|s| s.texture_files())
             .map(|f| resolve(&base, f)),
     );
-    inputs.extend(desc.media.iter().filter_map(|m| match m {
+    let interiors = desc.shapes.iter().filter_map(|s| s.interior.as_ref());
+    inputs.extend(desc.media.iter().chain(interiors).filter_map(|m| match m {
         description::MediumDesc::Vdb(v) => Some(frame_file(resolve(&base, &v.file))),
         _ => None,
     }));
@@ -220,7 +222,9 @@ fn check_table_shapes(top: &toml::Table) -> std::result::Result<(), (String, Str
 }
 
 /// Keys whose tables carry a `type` that selects an enum variant.
-const TAGGED_KEYS: [&str; 6] = ["light", "medium", "media", "material", "phase", "bounds"];
+const TAGGED_KEYS: [&str; 7] = [
+    "light", "medium", "media", "material", "phase", "bounds", "interior",
+];
 
 /// Rewrites every `{ type = "name", ... }` table under a tagged key into
 /// `{ name = { ... } }`; returns (field path, message) for a missing or bad `type`.
@@ -351,16 +355,32 @@ pub fn build_frame(
     let mut shape_textures = Vec::with_capacity(desc.shapes.len());
     let mut emissions = Vec::with_capacity(desc.shapes.len());
     let mut images = textures::ImageCache::default();
+    let mut interiors = Vec::new();
     for (i, shape) in desc.shapes.iter().enumerate() {
         let field = format!("shape[{i}]");
         let built = shapes::build_shape(shape, &field, &check, base)?;
         require_uv(shape, &field, built.texcoords.is_some(), &check, base)?;
-        let n = built.primitives.len();
-        items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
-        any_vt |= built.texcoords.is_some();
-        match built.texcoords {
-            Some(t) => texcoords.extend(t),
-            None => texcoords.extend(std::iter::repeat_n(crate::geometry::BARYCENTRIC_UV, n)),
+        let mut surface = true;
+        if shape.interior.is_some() {
+            surface = interior::boundary(shape, &field, &check)? == interior::Boundary::Dielectric;
+            interiors.extend(interior::build_interior(
+                shape,
+                &built.primitives,
+                &field,
+                &check,
+                base,
+                &timing,
+            )?);
+        }
+        if surface {
+            // Texture coordinates are indexed like the primitives: only surfaces get both.
+            let n = built.primitives.len();
+            items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
+            any_vt |= built.texcoords.is_some();
+            match built.texcoords {
+                Some(t) => texcoords.extend(t),
+                None => texcoords.extend(std::iter::repeat_n(crate::geometry::BARYCENTRIC_UV, n)),
+            }
         }
         let (material, texture) =
             build_material(shape.material.as_ref(), &field, &check, base, &mut images)?;
@@ -408,21 +428,22 @@ pub fn build_frame(
         lights.push(built);
     }
 
-    if desc.media.len() > MAX_OVERLAPPING_MEDIA {
+    if desc.media.len() + interiors.len() > MAX_OVERLAPPING_MEDIA {
         return Err(check.error(
             "medium",
             format!(
-                "at most {MAX_OVERLAPPING_MEDIA} media are supported, got {}",
-                desc.media.len()
+                "at most {MAX_OVERLAPPING_MEDIA} media (with shape interiors) are supported, got {}",
+                desc.media.len() + interiors.len()
             ),
         ));
     }
-    let media = desc
+    let mut media = desc
         .media
         .iter()
         .enumerate()
         .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base, &timing))
         .collect::<Result<Vec<_>>>()?;
+    media.extend(interiors);
 
     let scene = Scene {
         camera,

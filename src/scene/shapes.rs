@@ -96,12 +96,6 @@ pub(crate) fn build_shape(
     base: &Path,
 ) -> Result<BuiltShape> {
     reject_foreign_keys(shape, field, check)?;
-    if shape.interior.is_some() {
-        return Err(check.error(
-            &format!("{field}.interior"),
-            "media bounded by shapes are not supported yet; use a [[medium]] with box or sphere `bounds`",
-        ));
-    }
     let m = build_transform(shape.transform.as_ref(), field, check)?;
     let center = check.vec3(&format!("{field}.center"), shape.center.unwrap_or([0.0; 3]))?;
     let size = |n: usize| -> Result<Vec<f32>> {

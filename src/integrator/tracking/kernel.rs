@@ -64,6 +64,15 @@ macro_rules! dispatch {
                 let $m: &crate::medium::GridMedium = g;
                 $body
             }
+            // A shape-masked medium tracks its content over the clipped
+            // segments (see medium::interior): collisions fall inside the shape.
+            crate::medium::Medium::Interior(i) => match &i.content {
+                crate::medium::InteriorContent::Homogeneous($m) => $body,
+                crate::medium::InteriorContent::Grid(g) => {
+                    let $m: &crate::medium::GridMedium = g;
+                    $body
+                }
+            },
         }
     };
 }

@@ -1,0 +1,320 @@
+//! Media bounded by shapes: a homogeneous or grid medium that exists only
+//! inside a closed shape (`[[shape]] interior = { ... }`).
+//!
+//! ```toml
+//! [[shape]]
+//! type = "mesh"
+//! file = "glass.obj"
+//! material = { type = "dielectric", ior = 1.5 }   # omit for an index-matched boundary
+//! interior = { type = "vdb", file = "smoke.vdb", density_scale = 20.0 }
+//! ```
+//!
+//! # Mechanism
+//!
+//! A shape-masked medium is an ordinary medium (its coefficients are those
+//! of the content) whose extent along a ray is the set of intervals inside
+//! the shape: [`ShapeMask::intervals`] finds the ray's crossings with the
+//! surface and keeps the stretches between an entering and the next leaving
+//! crossing (for a mesh, the facing of each crossing says which; a sphere or
+//! box has one interval in closed form). The content's majorant segments are
+//! clipped to those intervals ([`MaskedMajorants`]), so tracking places
+//! tentative collisions only inside the shape, and the content's majorant,
+//! which bounds σt everywhere, still bounds it on every clipped piece: delta,
+//! ratio and residual ratio tracking stay unbiased. Shadow rays estimate
+//! transmittance over the same clipped segments (or, for homogeneous content,
+//! in closed form over the same intervals), so next-event estimation sees the
+//! same extent as free flights.
+//!
+//! The boundary is either index-matched (the shape has no material and is
+//! not added to the surfaces: rays pass through it unchanged) or a dielectric
+//! (the shape is also a glass surface: rays refract in and out, and, as for
+//! any dielectric, shadow rays are blocked by it; light reaches the medium
+//! inside through sampled refractions).
+//!
+//! A masked medium is one more entry of the scene's media list: it overlaps
+//! world-space `[[medium]]` entries and other interiors additively, like any
+//! two media (decomposition tracking over each one's own segments).
+//!
+//! # The crossing limit
+//!
+//! A ray keeps at most [`MAX_CROSSINGS`] crossings (the nearest), in a fixed
+//! array: no allocation per ray. When a ray crosses a mesh more often than
+//! that before `t_max`, the part of it past the last kept crossing is taken
+//! as outside the shape, and the query is counted ([`truncated_queries`]);
+//! the render summary reports the count, so the bias is never silent.
+
+use super::{GridMedium, HomogeneousMedium, MajorantSegment, MediumProperties, Region};
+use crate::color::Rgb;
+use crate::geometry::closed::{ClosedMesh, MAX_CROSSINGS};
+use crate::math::{Ray, Vec3};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+/// Most inside-intervals of one ray: every pair of kept crossings, plus a start inside.
+pub const MAX_INTERVALS: usize = MAX_CROSSINGS / 2 + 1;
+
+/// Interval queries cut short by [`MAX_CROSSINGS`] since the process started.
+static TRUNCATED: AtomicU64 = AtomicU64::new(0);
+
+/// Number of interval queries cut short by the crossing limit so far in this process.
+pub fn truncated_queries() -> u64 {
+    TRUNCATED.load(Ordering::Relaxed)
+}
+
+/// The closed shape a medium is masked by.
+#[derive(Clone, Debug)]
+pub enum ShapeMask {
+    /// A sphere or a box (one interval per ray, in closed form).
+    Region(Region),
+    /// A closed triangle mesh.
+    Mesh(Arc<ClosedMesh>),
+}
+
+/// The ray-parameter intervals inside a shape, increasing and disjoint.
+#[derive(Clone, Copy, Debug)]
+pub struct Intervals {
+    spans: [(f32, f32); MAX_INTERVALS],
+    len: usize,
+}
+
+impl Intervals {
+    const EMPTY: Intervals = Intervals {
+        spans: [(0.0, 0.0); MAX_INTERVALS],
+        len: 0,
+    };
+
+    fn push(&mut self, a: f32, b: f32) {
+        if a < b && self.len < MAX_INTERVALS {
+            self.spans[self.len] = (a, b);
+            self.len += 1;
+        }
+    }
+
+    /// The intervals as a slice.
+    pub fn as_slice(&self) -> &[(f32, f32)] {
+        &self.spans[..self.len]
+    }
+
+    /// Total length of the intervals within `[t0, t1]`.
+    pub fn length_within(&self, t0: f32, t1: f32) -> f32 {
+        self.as_slice()
+            .iter()
+            .map(|&(a, b)| (b.min(t1) - a.max(t0)).max(0.0))
+            .sum()
+    }
+}
+
+impl ShapeMask {
+    /// The intervals of `[0, t_max]` of `ray` inside the shape.
+    pub fn intervals(&self, ray: &Ray, t_max: f32) -> Intervals {
+        let mut out = Intervals::EMPTY;
+        match self {
+            ShapeMask::Region(region) => {
+                if let Some((a, b)) = region.interval(ray, t_max) {
+                    out.push(a, b);
+                }
+            }
+            ShapeMask::Mesh(mesh) => {
+                let c = mesh.crossings(ray);
+                let kept = &c.t[..c.len];
+                // Inside at the origin when the nearest crossing leaves the volume.
+                let mut inside = c.len > 0 && !c.entering[0];
+                let mut start = 0.0f32;
+                for (&t, &entering) in kept.iter().zip(&c.entering) {
+                    if t >= t_max {
+                        break;
+                    }
+                    // A crossing that does not change the state is a duplicate
+                    // (a ray through an edge hits both triangles): skipped.
+                    if entering && !inside {
+                        start = t;
+                        inside = true;
+                    } else if !entering && inside {
+                        out.push(start, t);
+                        inside = false;
+                    }
+                }
+                let truncated = c.overflow && kept.last().is_some_and(|&last| last < t_max);
+                if truncated {
+                    TRUNCATED.fetch_add(1, Ordering::Relaxed);
+                }
+                if inside {
+                    let end = if truncated { kept[c.len - 1] } else { t_max };
+                    out.push(start, end);
+                }
+            }
+        }
+        out
+    }
+
+    /// True when world point `p` lies inside the shape.
+    pub fn contains(&self, p: Vec3) -> bool {
+        match self {
+            ShapeMask::Region(region) => region.contains(p),
+            ShapeMask::Mesh(mesh) => mesh.contains(p),
+        }
+    }
+}
+
+/// What fills a shape.
+#[derive(Clone, Debug)]
+pub enum InteriorContent {
+    /// Constant coefficients (its region is all space; the mask bounds it).
+    Homogeneous(HomogeneousMedium),
+    /// A grid (VDB) medium, masked by the shape.
+    Grid(Arc<GridMedium>),
+}
+
+/// A medium that exists only inside a closed shape.
+#[derive(Clone, Debug)]
+pub struct InteriorMedium {
+    /// The medium's coefficients.
+    pub content: InteriorContent,
+    /// The shape bounding it.
+    pub mask: ShapeMask,
+}
+
+impl InteriorMedium {
+    /// Coefficients at `p`: the content's inside the shape, zero outside.
+    pub fn properties(&self, p: Vec3, time: f32) -> MediumProperties {
+        let props = match &self.content {
+            InteriorContent::Homogeneous(m) => m.properties(p),
+            InteriorContent::Grid(m) => m.properties_at(p, time),
+        };
+        if self.mask.contains(p) {
+            props
+        } else {
+            MediumProperties {
+                sigma_a: Rgb::BLACK,
+                sigma_s: Rgb::BLACK,
+                ..props
+            }
+        }
+    }
+
+    /// The content's majorant segments clipped to the inside of the shape.
+    pub fn majorants(&self, ray: &Ray, t_max: f32) -> MaskedMajorants<'_> {
+        let intervals = self.mask.intervals(ray, t_max);
+        let t_end = intervals.as_slice().last().map_or(0.0, |s| s.1);
+        let inner = match &self.content {
+            InteriorContent::Homogeneous(m) => MaskedInner::Single(m.majorant(ray, t_end)),
+            InteriorContent::Grid(m) => MaskedInner::Grid(m.majorants(ray, t_end)),
+        };
+        MaskedMajorants {
+            inner,
+            intervals,
+            index: 0,
+            pending: None,
+        }
+    }
+
+    /// Optical depth over `[t0, t1]` in closed form (homogeneous content only).
+    pub fn optical_depth(&self, ray: &Ray, t0: f32, t1: f32) -> Option<Rgb> {
+        match &self.content {
+            InteriorContent::Homogeneous(m) => {
+                let length = self.mask.intervals(ray, t1).length_within(t0, t1);
+                Some(m.sigma_t().depth_over(length))
+            }
+            InteriorContent::Grid(_) => None,
+        }
+    }
+
+    /// True when the content emits light.
+    pub fn is_emissive(&self) -> bool {
+        match &self.content {
+            InteriorContent::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
+            InteriorContent::Grid(m) => m.is_emissive(),
+        }
+    }
+}
+
+/// The content's own majorant segments, before clipping.
+#[derive(Clone, Debug)]
+enum MaskedInner<'a> {
+    Single(Option<MajorantSegment>),
+    Grid(super::grid::GridMajorants<'a>),
+}
+
+impl MaskedInner<'_> {
+    #[inline]
+    fn next(&mut self) -> Option<MajorantSegment> {
+        match self {
+            MaskedInner::Single(s) => s.take(),
+            MaskedInner::Grid(g) => g.next(),
+        }
+    }
+}
+
+/// Majorant segments of a content clipped to the intervals inside its shape.
+#[derive(Clone, Debug)]
+pub struct MaskedMajorants<'a> {
+    inner: MaskedInner<'a>,
+    intervals: Intervals,
+    index: usize,
+    /// A content segment reaching past the current interval, to clip against the next.
+    pending: Option<MajorantSegment>,
+}
+
+impl Iterator for MaskedMajorants<'_> {
+    type Item = MajorantSegment;
+    fn next(&mut self) -> Option<MajorantSegment> {
+        loop {
+            let &(a, b) = self.intervals.as_slice().get(self.index)?;
+            let seg = match self.pending.take() {
+                Some(s) => s,
+                None => self.inner.next()?,
+            };
+            if seg.t1 <= a {
+                continue;
+            }
+            if seg.t0 >= b {
+                self.index += 1;
+                self.pending = Some(seg);
+                continue;
+            }
+            let t0 = seg.t0.max(a);
+            let t1 = seg.t1.min(b);
+            if seg.t1 > b {
+                self.index += 1;
+                self.pending = Some(seg);
+            }
+            return Some(MajorantSegment {
+                t0,
+                t1,
+                sigma_maj: seg.majorant_at(t0),
+                ..seg
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn segment(t0: f32, t1: f32, sigma_maj: f32) -> MajorantSegment {
+        MajorantSegment {
+            t0,
+            t1,
+            sigma_maj,
+            decay: 0.0,
+            sigma_control: Rgb::BLACK,
+        }
+    }
+
+    #[test]
+    fn clipping_splits_segments_across_intervals() {
+        let mut intervals = Intervals::EMPTY;
+        intervals.push(1.0, 2.0);
+        intervals.push(3.0, 6.0);
+        let clipped = MaskedMajorants {
+            inner: MaskedInner::Single(Some(segment(0.0, 10.0, 2.0))),
+            intervals,
+            index: 0,
+            pending: None,
+        };
+        let got: Vec<(f32, f32)> = clipped.map(|s| (s.t0, s.t1)).collect();
+        assert_eq!(got, vec![(1.0, 2.0), (3.0, 6.0)]);
+        assert_eq!(intervals.length_within(1.5, 4.0), 1.5);
+    }
+}
