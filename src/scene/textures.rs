@@ -301,10 +301,11 @@ fn check_albedo_texels(
                 } else {
                     ""
                 };
+                let file = desc.file.as_deref().unwrap_or(Path::new("")).display();
                 return Err(check.error(
                     field,
                     format!(
-                        "texel ({i}, {j}){scaled} is {:?}, above 1: a reflectance must be at most 1 in every channel",
+                        "texel ({i}, {j}) of {file}{scaled} is {:?}, above 1: a reflectance must be at most 1 in every channel",
                         v.to_array()
                     ),
                 ));
