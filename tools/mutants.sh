@@ -46,4 +46,10 @@ medium)
     echo "unknown part: $part" >&2
     exit 2 ;;
 esac
-exec nice -n 19 cargo mutants --in-place --output "$out" "${files[@]}" "$@" -- "${tests[@]}"
+# The targets go to every cargo invocation (--cargo-arg), not only after `--`:
+# that way the build phase (`cargo test --no-run`) also builds only them.
+cargo_args=()
+for a in "${tests[@]}"; do
+    cargo_args+=("--cargo-arg=$a")
+done
+exec nice -n 19 cargo mutants --in-place --output "$out" "${files[@]}" "${cargo_args[@]}" "$@"
