@@ -411,6 +411,25 @@ mod tests {
         assert!((sum / n as f32 - 3.0).abs() < 0.02);
     }
 
+    /// The sky gradient: ground below the horizon, the horizon colour at it,
+    /// then `horizon·(1 − √h) + zenith·√h` with h the height of the direction.
+    #[test]
+    fn sky_gradient_follows_its_formula() {
+        let sky = Environment::Sky {
+            zenith: Rgb::splat(3.0),
+            horizon: Rgb::splat(1.0),
+            ground: Rgb::splat(0.25),
+            up: Vec3::Y,
+        };
+        let at = |h: f32| sky.radiance(Vec3::new((1.0 - h * h).sqrt(), h, 0.0)).r;
+        assert_eq!(at(1.0), 3.0);
+        // √0.25 = 0.5: 1·0.5 + 3·0.5.
+        assert!((at(0.25) - 2.0).abs() < 1e-6, "{}", at(0.25));
+        assert_eq!(sky.radiance(Vec3::X).r, 1.0, "exactly on the horizon");
+        assert_eq!(at(-0.5), 0.25);
+        assert_eq!(sky.radiance(-Vec3::Y).r, 0.25);
+    }
+
     #[test]
     fn area_light_pdf_matches_sample() {
         let quad = Primitive::Parallelogram {
