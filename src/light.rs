@@ -411,6 +411,33 @@ mod tests {
         assert!((sum / n as f32 - 3.0).abs() < 0.02);
     }
 
+    /// Only the sun and environments sit at infinity (escaping rays look them up).
+    #[test]
+    fn only_distant_lights_are_infinite() {
+        let point = Light::Point {
+            position: Vec3::ONE,
+            intensity: Rgb::WHITE,
+        };
+        let sun = Light::Sun {
+            to_sun: Vec3::Y,
+            irradiance: Rgb::WHITE,
+            cos_max: 1.0,
+        };
+        let env = Light::Environment(Environment::Constant {
+            radiance: Rgb::WHITE,
+        });
+        let quad = Primitive::Parallelogram {
+            corner: Vec3::ZERO,
+            edge_u: Vec3::X,
+            edge_v: Vec3::Z,
+        };
+        let area = Light::area(0, Rgb::WHITE, false, &Geometry::new(vec![(quad, 0)]));
+        assert!(!point.is_infinite() && !area.is_infinite());
+        assert!(sun.is_infinite() && env.is_infinite());
+        assert_eq!(point.point_position(), Some(Vec3::ONE));
+        assert_eq!(sun.point_position(), None);
+    }
+
     /// The sky gradient: ground below the horizon, the horizon colour at it,
     /// then `horizon·(1 − √h) + zenith·√h` with h the height of the direction.
     #[test]

@@ -20,7 +20,8 @@ direct)
     tests=("${render[@]}") ;;
 estimator)
     files=(-f src/integrator/mod.rs)
-    tests=("${render[@]}" --test envmap --test materials) ;;
+    tests=("${render[@]}" --test envmap --test materials --test motion_blur
+        --test motion_box --test aovs) ;;
 light)
     files=(-f src/light.rs -f 'src/light/**')
     tests=(--lib "${render[@]}" --test envmap) ;;
