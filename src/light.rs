@@ -411,6 +411,69 @@ mod tests {
         assert!((sum / n as f32 - 3.0).abs() < 0.02);
     }
 
+    /// An area light over several primitives picks each in proportion to its
+    /// area and reuses the rest of `u.x` uniformly inside it: with stratified
+    /// `u.x` the counts per primitive and the mean position inside each are
+    /// exact up to one stratum.
+    #[test]
+    fn multi_primitive_area_light_samples_uniformly_by_area() {
+        // Three strips side by side at y = 2, widths 1, 2 and 0.5 along x.
+        let strips = [(0.0, 1.0), (1.0, 2.0), (3.0, 0.5)];
+        let prims = strips
+            .iter()
+            .map(|&(x0, w)| {
+                let quad = Primitive::Parallelogram {
+                    corner: Vec3::new(x0, 2.0, 0.0),
+                    edge_u: Vec3::new(w, 0.0, 0.0),
+                    edge_v: Vec3::Z,
+                };
+                (quad, 0)
+            })
+            .collect();
+        let geometry = Geometry::new(prims);
+        let light = Light::area(0, Rgb::WHITE, true, &geometry);
+        let n = 3500;
+        let (mut count, mut sum_x) = ([0usize; 3], [0.0f64; 3]);
+        let p = Vec3::new(1.0, 0.0, 0.5);
+        for i in 0..n {
+            let u = Vec2::new((i as f32 + 0.5) / n as f32, 0.5);
+            let ls = light.sample(p, u, &geometry).unwrap();
+            let x = (p + ls.wi * ls.distance).x;
+            let k = strips.iter().rposition(|&(x0, _)| x >= x0 - 1e-4).unwrap();
+            count[k] += 1;
+            sum_x[k] += x as f64;
+            let hit = p + ls.wi * ls.distance;
+            let pdf = light.area_pdf(p, hit, Vec3::Y);
+            assert!((pdf - ls.pdf).abs() < 1e-3 * pdf);
+        }
+        for (k, &(x0, w)) in strips.iter().enumerate() {
+            let expected = n as f32 * w / 3.5;
+            assert!((count[k] as f32 - expected).abs() <= 1.0, "{count:?}");
+            let mean = sum_x[k] / count[k] as f64;
+            let centre = (x0 + 0.5 * w) as f64;
+            assert!((mean - centre).abs() < 2e-3, "strip {k}: mean x {mean}, centre {centre}");
+        }
+    }
+
+    /// A spot light gives no sample outside its cone, and `I/d²` on its axis.
+    #[test]
+    fn spot_light_samples_only_inside_its_cone() {
+        let spot = Light::Spot {
+            position: Vec3::ZERO,
+            axis: -Vec3::Y,
+            intensity: Rgb::splat(8.0),
+            cos_inner: 0.9,
+            cos_outer: 0.8,
+        };
+        let geometry = Geometry::new(Vec::new());
+        let u = Vec2::new(0.5, 0.5);
+        let on_axis = spot.sample(Vec3::new(0.0, -2.0, 0.0), u, &geometry).unwrap();
+        assert_eq!(on_axis.radiance.r, 2.0);
+        assert_eq!(on_axis.wi, Vec3::Y);
+        assert!(spot.sample(Vec3::new(2.0, -1.0, 0.0), u, &geometry).is_none());
+        assert!(spot.sample(Vec3::new(0.0, 2.0, 0.0), u, &geometry).is_none());
+    }
+
     /// Only the sun and environments sit at infinity (escaping rays look them up).
     #[test]
     fn only_distant_lights_are_infinite() {
