@@ -455,6 +455,32 @@ mod tests {
         }
     }
 
+    /// A one-sided area light is dark from behind: no sample there, and no
+    /// emitted radiance toward that side; a two-sided one gives both.
+    #[test]
+    fn one_sided_area_light_is_dark_from_behind() {
+        // Normal edge_u × edge_v = X × Z = −Y: it faces down.
+        let quad = Primitive::Parallelogram {
+            corner: Vec3::new(-0.5, 2.0, -0.5),
+            edge_u: Vec3::X,
+            edge_v: Vec3::Z,
+        };
+        let geometry = Geometry::new(vec![(quad, 0)]);
+        let one = Light::area(0, Rgb::WHITE, false, &geometry);
+        let two = Light::area(0, Rgb::WHITE, true, &geometry);
+        let (below, above) = (Vec3::ZERO, Vec3::new(0.0, 4.0, 0.0));
+        let mut s = Sampler::from_seed(5);
+        for _ in 0..100 {
+            let u = s.next_2d();
+            assert!(one.sample(below, u, &geometry).is_some());
+            assert!(one.sample(above, u, &geometry).is_none());
+            assert!(two.sample(above, u, &geometry).is_some());
+        }
+        assert_eq!(one.area_radiance(-Vec3::Y, -Vec3::Y), Rgb::WHITE);
+        assert_eq!(one.area_radiance(-Vec3::Y, Vec3::Y), Rgb::BLACK);
+        assert_eq!(two.area_radiance(-Vec3::Y, Vec3::Y), Rgb::WHITE);
+    }
+
     /// A spot light gives no sample outside its cone, and `I/d²` on its axis.
     #[test]
     fn spot_light_samples_only_inside_its_cone() {
