@@ -21,7 +21,7 @@ direct)
 estimator)
     files=(-f src/integrator/mod.rs)
     tests=("${render[@]}" --test envmap --test materials --test motion_blur
-        --test motion_box --test aovs) ;;
+        --test motion_box --test aovs --test shutter_time) ;;
 light)
     files=(-f src/light.rs -f 'src/light/**')
     tests=(--lib "${render[@]}" --test envmap) ;;
