@@ -176,6 +176,25 @@ impl Light {
 
     /// Samples a direction toward the light from receiver point `p`.
     pub fn sample(&self, p: Vec3, u: Vec2, geometry: &Geometry) -> Option<LightSample> {
+        self.sample_facing(p, None, u, geometry)
+    }
+
+    /// Samples a direction toward the light from `p`, a surface point with unit
+    /// shading normal `normal` (on the side it reflects into) or, with `None`,
+    /// a point in a medium.
+    ///
+    /// Constant and sky environments seen from a surface are sampled
+    /// cosine-weighted about the normal: uniform directions over the sphere put
+    /// half of them below the surface, where a reflecting BSDF is zero.
+    /// Directions behind the surface are then left to BSDF sampling alone,
+    /// which `escaped_pdf_facing` (0 there) tells MIS.
+    pub fn sample_facing(
+        &self,
+        p: Vec3,
+        normal: Option<Vec3>,
+        u: Vec2,
+        geometry: &Geometry,
+    ) -> Option<LightSample> {
         match self {
             Light::Point {
                 position,
@@ -244,12 +263,22 @@ impl Light {
                 is_delta: false,
             }),
             Light::Environment(env) => {
-                let wi = warp::square_to_uniform_sphere(u);
-                Some(LightSample {
+                let (wi, pdf) = match normal {
+                    Some(n) => {
+                        let local = warp::square_to_cosine_hemisphere(u);
+                        let pdf = warp::cosine_hemisphere_pdf(local);
+                        (Frame::from_z(n).to_world(local).normalize(), pdf)
+                    }
+                    None => (
+                        warp::square_to_uniform_sphere(u),
+                        warp::uniform_sphere_pdf(),
+                    ),
+                };
+                (pdf > 0.0).then(|| LightSample {
                     wi,
                     distance: f32::INFINITY,
                     radiance: env.radiance(wi),
-                    pdf: warp::uniform_sphere_pdf(),
+                    pdf,
                     is_delta: false,
                 })
             }
@@ -339,12 +368,21 @@ impl Light {
 
     /// Solid-angle density with which `sample` would pick escaping direction `dir`.
     pub fn escaped_pdf(&self, dir: Vec3) -> f32 {
+        self.escaped_pdf_facing(dir, None)
+    }
+
+    /// Solid-angle density with which `sample_facing` from a receiver with
+    /// `normal` would pick escaping direction `dir`.
+    pub fn escaped_pdf_facing(&self, dir: Vec3, normal: Option<Vec3>) -> f32 {
         match self {
             Light::Sun {
                 to_sun, cos_max, ..
             } if *cos_max < 1.0 && dir.dot(*to_sun) >= *cos_max => warp::uniform_cone_pdf(*cos_max),
             Light::Environment(Environment::Map(map)) => map.pdf(dir),
-            Light::Environment(_) => warp::uniform_sphere_pdf(),
+            Light::Environment(_) => match normal {
+                Some(n) => n.dot(dir).max(0.0) * std::f32::consts::FRAC_1_PI,
+                None => warp::uniform_sphere_pdf(),
+            },
             _ => 0.0,
         }
     }

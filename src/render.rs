@@ -1,4 +1,4 @@
-//! The render driver: row bands in parallel (rayon), progressive passes,
+//! The render driver: rows in parallel (rayon), progressive passes,
 //! time/spp budget, progress bar (indicatif) and film accumulation.
 //!
 //! Each pixel's samples are summed in sample order by the one task that owns
@@ -16,9 +16,6 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
-
-/// Rows per parallel work item.
-const BAND_ROWS: usize = 4;
 
 /// How long and how to render.
 #[derive(Clone, Debug)]
@@ -69,10 +66,13 @@ struct Pixel {
 pub const MAX_PEAK_BYTES: u64 = 64 << 30;
 
 /// Bytes a `width`×`height` render holds at its peak: sums, pass, film,
-/// image, PNG bytes and the EXR channels (3 means, 8 words of sums and counts).
+/// image, PNG bytes and the EXR channels (3 means, 8 words of sums and counts),
+/// plus the passes a small image renders at once (at most `GROUP_PIXELS`).
 pub fn peak_bytes(width: u32, height: u32) -> u64 {
     let per_pixel = 3 * std::mem::size_of::<Pixel>() + std::mem::size_of::<Rgb>() + 3 + 11 * 4;
-    width as u64 * height as u64 * per_pixel as u64
+    let pixels = width as u64 * height as u64;
+    let group = (GROUP_PIXELS as u64).saturating_sub(pixels) * std::mem::size_of::<Pixel>() as u64;
+    pixels * per_pixel as u64 + group
 }
 
 impl Pixel {
@@ -207,11 +207,11 @@ fn render_in_pool(
     let mut film = vec![Pixel::default(); w * h];
     let start = Instant::now();
     let pass_spp = pass_size(options);
-    let bands = h.div_ceil(BAND_ROWS) as u64;
-    let bar = progress_bar(options, bands);
+    let bar = progress_bar(options, h as u64);
     let mut spp_done = 0u32;
     let mut partial = false;
     let mut tracking = TrackingStats::default();
+    let mut passes: Vec<Pixel> = Vec::new();
     loop {
         let budget_left = match options.time_budget {
             // A time budget always gets its first pass: no render ends with 0 samples.
@@ -228,58 +228,43 @@ fn render_in_pool(
             partial = true;
             break;
         }
-        let count = match options.time_budget {
-            Some(_) if !options.spp_is_cap => pass_spp,
-            _ => pass_spp.min(options.spp - spp_done),
+        let counts = group_counts(options, pass_spp, spp_done, on_pass.is_some(), w * h);
+        passes.clear();
+        passes.resize(counts.len() * w * h, Pixel::default());
+        let group = Group {
+            scene,
+            w,
+            h,
+            origin: (x0, y0),
+            first: first + spp_done,
+            counts: &counts,
+            cancel,
+            bar: &bar,
         };
-        let mut pass = vec![Pixel::default(); w * h];
-        let bands_done = AtomicUsize::new(0);
-        let pass_stats = pass
-            .par_chunks_mut(w * BAND_ROWS)
-            .enumerate()
-            .map(|(band, rows)| {
-                if cancel.load(Ordering::Relaxed) {
-                    return TrackingStats::default();
-                }
-                // A band runs on one thread from start to end: its counts are the thread's.
-                take_thread_stats();
-                for (i, px) in rows.iter_mut().enumerate() {
-                    let (x, y) = ((i % w) as u32, (band * BAND_ROWS + i / w) as u32);
-                    match render_pixel(scene, x0 + x, y0 + y, first + spp_done, count, cancel) {
-                        Some(p) => *px = p,
-                        // Stopped: the band is not counted, so the pass is dropped.
-                        None => return TrackingStats::default(),
-                    }
-                }
-                bands_done.fetch_add(1, Ordering::Relaxed);
-                bar.inc(1);
-                take_thread_stats()
-            })
-            .reduce(TrackingStats::default, |mut a, b| {
-                a.merge(b);
-                a
-            });
-        tracking.merge(pass_stats);
+        let (finished, stats) = group.render(&mut passes);
+        tracking.merge(stats);
         // A pass cut short is dropped whole, so every pixel of the image has
         // exactly `spp_done` samples; a pass that finished is kept even if the
-        // stop request came in just after its last band.
-        if bands_done.into_inner() < bands as usize {
+        // stop request came in just after its last row.
+        for (k, pass) in passes.chunks(w * h).take(finished).enumerate() {
+            for (f, p) in film.iter_mut().zip(pass) {
+                f.merge(p);
+            }
+            spp_done += counts[k];
+            if let Some(observe) = on_pass.as_mut() {
+                observe(&Image {
+                    width: w,
+                    height: h,
+                    pixels: film.iter().map(Pixel::mean).collect(),
+                    spp: spp_done,
+                    partial: true,
+                });
+            }
+        }
+        bar.set_message(format!("{spp_done} spp"));
+        if finished < counts.len() {
             partial = true;
             break;
-        }
-        for (f, p) in film.iter_mut().zip(&pass) {
-            f.merge(p);
-        }
-        spp_done += count;
-        bar.set_message(format!("{spp_done} spp"));
-        if let Some(observe) = on_pass.as_mut() {
-            observe(&Image {
-                width: w,
-                height: h,
-                pixels: film.iter().map(Pixel::mean).collect(),
-                spp: spp_done,
-                partial: true,
-            });
         }
     }
     bar.finish_and_clear();
@@ -301,6 +286,113 @@ fn render_in_pool(
         tracking,
         capped_rays: 0,
         truncated_interiors: 0,
+    }
+}
+
+/// Pixels of pass buffers a group of passes may hold at once (32 MiB of sums).
+const GROUP_PIXELS: usize = 1 << 20;
+
+/// The spp of each pass of the next group: one pass with a time budget or an
+/// observer (they look at the image after every pass), otherwise as many as
+/// fit in `GROUP_PIXELS`, so that the threads meet once per group instead of
+/// once per pass (each meeting idles all but the slowest thread).
+fn group_counts(
+    options: &RenderOptions,
+    pass_spp: u32,
+    spp_done: u32,
+    observed: bool,
+    pixels: usize,
+) -> Vec<u32> {
+    if options.time_budget.is_some() {
+        let count = match options.spp_is_cap {
+            true => pass_spp.min(options.spp - spp_done),
+            false => pass_spp,
+        };
+        return vec![count];
+    }
+    let most = if observed {
+        1
+    } else {
+        (GROUP_PIXELS / pixels.max(1)).max(1)
+    };
+    let mut counts = Vec::new();
+    let mut done = spp_done;
+    while done < options.spp && counts.len() < most {
+        let count = pass_spp.min(options.spp - done);
+        counts.push(count);
+        done += count;
+    }
+    counts
+}
+
+/// One parallel job over several passes: each work item is one row of one pass.
+struct Group<'a> {
+    scene: &'a Scene,
+    w: usize,
+    h: usize,
+    /// Top-left pixel of the crop.
+    origin: (u32, u32),
+    /// Index of the first sample of the first pass.
+    first: u32,
+    /// Samples of each pass.
+    counts: &'a [u32],
+    cancel: &'a AtomicBool,
+    bar: &'a ProgressBar,
+}
+
+impl Group<'_> {
+    /// Fills `passes` (one `w`×`h` buffer per pass, in pass order); returns
+    /// how many leading passes finished every row, and the tracking counts.
+    fn render(&self, passes: &mut [Pixel]) -> (usize, TrackingStats) {
+        let rows_done: Vec<AtomicUsize> = self.counts.iter().map(|_| AtomicUsize::new(0)).collect();
+        let firsts: Vec<u32> = self
+            .counts
+            .iter()
+            .scan(self.first, |next, &c| {
+                let f = *next;
+                *next += c;
+                Some(f)
+            })
+            .collect();
+        let stats = passes
+            .par_chunks_mut(self.w)
+            .enumerate()
+            .map(|(item, row)| {
+                let (k, y) = (item / self.h, item % self.h);
+                if self.cancel.load(Ordering::Relaxed) {
+                    return TrackingStats::default();
+                }
+                // An item runs on one thread from start to end: its counts are the thread's.
+                take_thread_stats();
+                let (x0, y0) = self.origin;
+                for (x, px) in row.iter_mut().enumerate() {
+                    let (px_x, px_y) = (x0 + x as u32, y0 + y as u32);
+                    match render_pixel(
+                        self.scene,
+                        px_x,
+                        px_y,
+                        firsts[k],
+                        self.counts[k],
+                        self.cancel,
+                    ) {
+                        Some(p) => *px = p,
+                        // Stopped: the row is not counted, so its pass is dropped.
+                        None => return TrackingStats::default(),
+                    }
+                }
+                rows_done[k].fetch_add(1, Ordering::Relaxed);
+                self.bar.inc(1);
+                take_thread_stats()
+            })
+            .reduce(TrackingStats::default, |mut a, b| {
+                a.merge(b);
+                a
+            });
+        let finished = rows_done
+            .iter()
+            .take_while(|r| r.load(Ordering::Relaxed) == self.h)
+            .count();
+        (finished, stats)
     }
 }
 
@@ -336,14 +428,14 @@ fn pass_size(options: &RenderOptions) -> u32 {
     }
 }
 
-fn progress_bar(options: &RenderOptions, bands: u64) -> ProgressBar {
+fn progress_bar(options: &RenderOptions, rows: u64) -> ProgressBar {
     if !options.progress {
         return ProgressBar::hidden();
     }
     let bar = match options.time_budget {
         // The length of a timed render is unknown: show a spinner with rates.
         Some(_) => ProgressBar::new_spinner(),
-        None => ProgressBar::new(bands * options.spp.div_ceil(pass_size(options)) as u64),
+        None => ProgressBar::new(rows * options.spp.div_ceil(pass_size(options)) as u64),
     };
     bar.set_draw_target(ProgressDrawTarget::stderr());
     let template = if options.time_budget.is_some() {

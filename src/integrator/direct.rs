@@ -40,6 +40,14 @@ impl Vertex<'_> {
         }
     }
 
+    /// The unit normal of a surface vertex on the side it scatters into (`None` in a medium).
+    fn normal(&self) -> Option<Vec3> {
+        match self {
+            Vertex::Surface { shading, .. } => Some(shading.n),
+            Vertex::Medium { .. } => None,
+        }
+    }
+
     /// The point itself, where lights are sampled from.
     fn position(&self) -> Vec3 {
         match self {
@@ -105,7 +113,7 @@ pub(super) fn direct_light(
     let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
     let light = &scene.lights[index];
     let p = vertex.position();
-    let Some(ls) = light.sample(p, u, &scene.geometry) else {
+    let Some(ls) = light.sample_facing(p, vertex.normal(), u, &scene.geometry) else {
         return Rgb::BLACK;
     };
     let (f, scatter_pdf) = vertex.scattering(ls.wi);

@@ -95,8 +95,15 @@ impl Scene {
         }
     }
 
-    /// Radiance from infinite lights for a ray escaping along `dir`, MIS-weighted against light sampling.
-    fn escaped(&self, dir: Vec3, prev_pdf: f32, prev_delta: bool) -> Rgb {
+    /// Radiance from infinite lights for a ray escaping along `dir`, MIS-weighted
+    /// against light sampling from the vertex it left (a surface one with `prev_normal`).
+    fn escaped(
+        &self,
+        dir: Vec3,
+        prev_pdf: f32,
+        prev_delta: bool,
+        prev_normal: Option<Vec3>,
+    ) -> Rgb {
         let mut total = Rgb::BLACK;
         for light in self.lights.iter().filter(|l| l.is_infinite()) {
             let le = light.escaped_radiance(dir);
@@ -106,7 +113,8 @@ impl Scene {
             let weight = if prev_delta {
                 1.0
             } else {
-                let light_pdf = light.escaped_pdf(dir) * self.light_pick_probability();
+                let light_pdf =
+                    light.escaped_pdf_facing(dir, prev_normal) * self.light_pick_probability();
                 power_heuristic(prev_pdf, light_pdf)
             };
             total += le * weight;
@@ -145,6 +153,8 @@ struct PathState {
     prev_delta: bool,
     /// Where the current ray started (for area-light MIS).
     prev_point: Vec3,
+    /// The normal light sampling used there when it was a surface vertex (for environment MIS).
+    prev_normal: Option<Vec3>,
     /// Scattering events so far (surface and medium).
     depth: u32,
     /// Medium scattering events so far.
@@ -176,6 +186,7 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Rgb {
         prev_pdf: 1.0,
         prev_delta: true,
         prev_point: ray.origin,
+        prev_normal: None,
         depth: 0,
         scatter_depth: 0,
         emission_only: scene.settings.max_depth == 0 || scene.settings.max_scatter_depth == 0,
@@ -194,7 +205,12 @@ fn trace_segment(scene: &Scene, path: &mut PathState, sampler: &mut Sampler) -> 
         }
     }
     let Some(hit) = hit else {
-        let escaped = scene.escaped(path.ray.direction, path.prev_pdf, path.prev_delta);
+        let escaped = scene.escaped(
+            path.ray.direction,
+            path.prev_pdf,
+            path.prev_delta,
+            path.prev_normal,
+        );
         path.radiance += path.throughput * escaped;
         return Step::Stop;
     };
@@ -251,6 +267,7 @@ fn medium_segment(
                 return Some(Step::Stop);
             };
             path.throughput *= ps.weight;
+            path.prev_normal = None;
             Some(continue_path(
                 scene,
                 path,
@@ -310,6 +327,7 @@ fn surface_vertex(
         return Step::Stop;
     };
     path.throughput *= bs.weight;
+    path.prev_normal = Some(shading.n);
     let ray = path
         .ray
         .spawn(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
