@@ -298,7 +298,7 @@ fn bad_material_keys_name_the_key() {
         ),
         ("{ type = \"conductor\", f0 = 1.5 }", "shape[0].material.f0"),
         (
-            "{ type = \"diffuse\" }\ninterior = { type = \"homogeneous\", sigma_t = 1.0 }",
+            "{ type = \"mirror\" }\ninterior = { type = \"homogeneous\", sigma_t = 1.0 }",
             "shape[0].material: a shape with an interior needs a dielectric material",
         ),
     ] {
