@@ -34,6 +34,7 @@ use kernel::{dispatch, TrackedMedium};
 use stats::Tally;
 pub use stats::{take_thread_stats, TrackingStats};
 
+mod exact;
 mod kernel;
 mod stats;
 
@@ -210,9 +211,14 @@ pub fn medium_transmittance(
     sampler: &mut Sampler,
 ) -> Rgb {
     match estimator {
-        TransmittanceEstimator::Auto => match medium.optical_depth(ray, 0.0, t_max) {
-            Some(tau) => tau.exp_neg(),
-            None => ratio_tracking(medium, ray, t_max, sampler),
+        TransmittanceEstimator::Auto => match medium {
+            Medium::Grid(g) if g.exact_possible(false) => {
+                exact::grid_transmittance(g, ray, t_max, sampler)
+            }
+            _ => match medium.optical_depth(ray, 0.0, t_max) {
+                Some(tau) => tau.exp_neg(),
+                None => ratio_tracking(medium, ray, t_max, sampler),
+            },
         },
         TransmittanceEstimator::Delta => delta_tracking_transmittance(medium, ray, t_max, sampler),
         TransmittanceEstimator::Ratio => ratio_tracking(medium, ray, t_max, sampler),
@@ -415,6 +421,11 @@ pub fn sample_free_flight(
 ) -> FreeFlight {
     if let [medium] = media {
         // One medium (the common case): no earliest-collision search, no tracker array.
+        if let Medium::Grid(g) = medium {
+            if g.exact_possible(true) {
+                return exact::grid_free_flight(g, ray, t_max, throughput, radiance, sampler);
+            }
+        }
         let tracker = Tracker::new(medium, ray, t_max);
         return dispatch!(medium, m => {
             free_flight_one(m, tracker, ray, t_max, throughput, radiance, sampler)
