@@ -212,7 +212,8 @@ fn dense_smoke(exact: ExactVoxels) -> Medium {
         phase: PhaseFunction::Isotropic,
         emission: GridEmission::None,
         majorant: MajorantMode::Grid,
-        cell_size: None,
+        // Null collisions only: the one-voxel cells the medium would get without exact walks.
+        cell_size: (exact == ExactVoxels::Never).then_some(1),
     };
     let mut m = GridMedium::new(grid, params);
     m.set_exact_voxels(exact);

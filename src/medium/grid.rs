@@ -146,6 +146,10 @@ pub struct GridMedium {
     track_bounds: Bounds3,
     /// Where tracking integrates voxels exactly.
     exact: ExactVoxels,
+    /// Whether some stored value (or the background) is negative, so that the lookup's clamp to 0 can act.
+    may_clamp: bool,
+    /// The largest majorant of any cell (per unit ray parameter).
+    peak_majorant: f32,
 }
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
@@ -216,6 +220,7 @@ impl GridMedium {
         motion: Option<GridMotion>,
     ) -> GridMedium {
         let world_to_index = index_map(&density, &params.to_world);
+        let may_clamp = density.background() < 0.0 || density.blocks().any(|b| b.min_value < 0.0);
         // Trilinear lookups reach one voxel beyond the active voxels.
         let (lo, hi) = density
             .index_bbox_active()
@@ -225,11 +230,19 @@ impl GridMedium {
         let peak = density.value_range().1.max(density.background()).max(0.0)
             * (params.sigma_t_scale * params.density_scale).max_channel()
             * voxel_world_length(&density, &params.to_world);
+        // Dense cells are walked voxel by voxel (`ExactVoxels`) where the medium
+        // allows it; only media that always take null collisions need cells
+        // shrunk to their density.
+        let exact_walks = motion.is_none()
+            && params.sigma_t_scale.min_channel() == params.sigma_t_scale.max_channel();
         let cell = match params.majorant {
             MajorantMode::Grid => Vec3::splat(
                 params
                     .cell_size
-                    .unwrap_or_else(|| default_cell_size(extent).min(dense_cell_size(peak, extent)))
+                    .unwrap_or_else(|| match exact_walks {
+                        true => default_cell_size(extent),
+                        false => default_cell_size(extent).min(dense_cell_size(peak, extent)),
+                    })
                     .max(1) as f32,
             ),
             MajorantMode::Global => extent.as_vec3(),
@@ -269,6 +282,8 @@ impl GridMedium {
                 emission_scale,
             },
         };
+        let peak_majorant =
+            majorants.global_max() * (params.sigma_t_scale * params.density_scale).max_channel();
         GridMedium {
             density,
             world_to_index,
@@ -284,6 +299,8 @@ impl GridMedium {
                 max: track_hi,
             },
             exact: ExactVoxels::Auto,
+            may_clamp,
+            peak_majorant,
         }
     }
 
@@ -304,6 +321,16 @@ impl GridMedium {
             && !(flight && k.min_channel() != k.max_channel())
     }
 
+    /// Whether some segment of `ray` may be walked exactly: [`Self::exact_possible`],
+    /// and the volume's largest majorant reaches [`Self::exact_rate`] for this
+    /// direction (else tracking keeps its null-collision loops, untouched).
+    #[inline]
+    pub fn may_walk_exactly(&self, ray: &Ray, flight: bool) -> bool {
+        self.exact_possible(flight)
+            && self.peak_majorant
+                >= self.exact_rate(self.world_to_index.transform_vector3(ray.direction))
+    }
+
     /// The majorant (per unit ray parameter) at or above which a segment of a
     /// ray with index-space direction `d` is walked exactly.
     #[inline]
@@ -318,7 +345,7 @@ impl GridMedium {
     /// The voxel cells the index-space ray `o + t·d` crosses over `[t0, t1]`, with the density along each.
     #[inline]
     pub fn voxels(&self, o: Vec3, d: Vec3, t0: f32, t1: f32) -> VoxelWalk<'_> {
-        VoxelWalk::new(&self.density, o, d, t0, t1)
+        VoxelWalk::new(&self.density, self.may_clamp, o, d, t0, t1)
     }
 
     /// The density grid.

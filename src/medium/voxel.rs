@@ -73,7 +73,7 @@ impl Cubic {
     /// leaves it), to a relative 2⁻²⁰ of the span: well below one voxel's f32 resolution.
     pub fn solve_integral(&self, target: f32) -> f32 {
         let total = self.integral(1.0);
-        if !(total > 0.0) || target <= 0.0 {
+        if total.is_nan() || total <= 0.0 || target <= 0.0 {
             return 0.0;
         }
         if target >= total {
@@ -113,9 +113,11 @@ pub struct VoxelSpan {
     pub t1: f32,
     /// The density over the span's fraction `w = (t - t0) / (t1 - t0)`.
     pub density: Cubic,
-    /// Smallest of the cell's eight corner values (the density is at least this, and ≥ 0, on the span).
-    pub min_corner: f32,
-    /// Largest corner value (the density is at most this on the span).
+    /// Whether some corner is negative, so that the lookup's clamp to 0 acts
+    /// and the density is `max(0, cubic)`, not the cubic.
+    pub clamped: bool,
+    /// Largest corner value (the density is at most this on the span); only
+    /// computed where `clamped`, else 0.
     pub max_corner: f32,
 }
 
@@ -123,6 +125,8 @@ pub struct VoxelSpan {
 #[derive(Clone, Debug)]
 pub struct VoxelWalk<'a> {
     grid: &'a FloatGrid,
+    /// Whether the grid holds negative values (see [`VoxelSpan::clamped`]).
+    may_clamp: bool,
     origin: Vec3,
     dir: Vec3,
     cell: IVec3,
@@ -134,8 +138,16 @@ pub struct VoxelWalk<'a> {
 }
 
 impl<'a> VoxelWalk<'a> {
-    /// Walks the voxel cells of `grid` crossed by the index-space ray `o + t·d` over `[t0, t1]`.
-    pub fn new(grid: &'a FloatGrid, o: Vec3, d: Vec3, t0: f32, t1: f32) -> VoxelWalk<'a> {
+    /// Walks the voxel cells of `grid` crossed by the index-space ray `o + t·d`
+    /// over `[t0, t1]`; `may_clamp`: the grid holds negative values.
+    pub fn new(
+        grid: &'a FloatGrid,
+        may_clamp: bool,
+        o: Vec3,
+        d: Vec3,
+        t0: f32,
+        t1: f32,
+    ) -> VoxelWalk<'a> {
         // The cell of the span's midpoint near t0: a start exactly on a cell plane
         // rounds either way, and the first cell must be the one the ray enters.
         let probe = t0 + ((t1 - t0) * 0.5).min(1e-3 / d.abs().max_element().max(1e-30));
@@ -152,6 +164,7 @@ impl<'a> VoxelWalk<'a> {
         }
         VoxelWalk {
             grid,
+            may_clamp,
             origin: o,
             dir: d,
             cell,
@@ -199,7 +212,13 @@ impl VoxelWalk<'_> {
         };
         let cell = self.cell;
         let t0 = self.t;
-        let t1 = self.t_next[axis].min(self.t_end).max(t0);
+        let plane = self.t_next[axis];
+        if plane > self.t_end {
+            // The walk stops inside this cell: stay in it, so that `extend_to` goes on from here.
+            self.t = self.t_end;
+            return (cell, t0, self.t_end.max(t0));
+        }
+        let t1 = plane.max(t0);
         self.t = t1;
         self.cell[axis] += self.step[axis];
         self.t_next[axis] += self.t_delta[axis];
@@ -209,30 +228,39 @@ impl VoxelWalk<'_> {
     /// The span of `cell` over `[t0, t1]`.
     #[inline]
     fn span(&self, cell: IVec3, t0: f32, t1: f32) -> VoxelSpan {
-        let mut corners = self.grid.corners(cell);
-        // A lookup's clamp to ≥ 0 also turns NaN into 0.
-        for c in &mut corners {
-            if c.is_nan() {
-                *c = 0.0;
-            }
-        }
+        let corners = self.grid.corners(cell);
         let base = cell.as_vec3();
         // Rounding may put the span's ends a hair outside the cell: clamp, so the
         // cubic stays a convex combination of the corners.
         let a = (self.origin + self.dir * t0 - base).clamp(Vec3::ZERO, Vec3::ONE);
         let b = (self.origin + self.dir * t1 - base).clamp(Vec3::ZERO, Vec3::ONE);
-        let (min_corner, max_corner) = corners
-            .iter()
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), &c| {
-                (lo.min(c), hi.max(c))
-            });
+        let mut density = Cubic::along(&corners, a, b);
+        if density.0.iter().sum::<f32>().is_nan() {
+            // A NaN corner: the lookup's clamp to ≥ 0 turns its NaN into 0 wherever it weighs.
+            density = Cubic([0.0; 4]);
+        }
+        let (clamped, max_corner) = if self.may_clamp && corners.iter().any(|&c| c < 0.0) {
+            (true, corners.iter().copied().fold(0.0, f32::max))
+        } else {
+            (false, 0.0)
+        };
         VoxelSpan {
             t0,
             t1,
-            density: Cubic::along(&corners, a, b),
-            min_corner,
+            density,
+            clamped,
             max_corner,
         }
+    }
+
+    /// Where the walk is (the start of the next span) and where it stops.
+    pub fn reach(&self) -> (f32, f32) {
+        (self.t, self.t_end)
+    }
+
+    /// Lets the walk go on to `t_end` (a following segment that starts where it stopped).
+    pub fn extend_to(&mut self, t_end: f32) {
+        self.t_end = t_end;
     }
 }
 
@@ -291,5 +319,31 @@ mod tests {
             (w - 1.0f32.powf(0.25) * 0.5f32.powf(0.25)).abs() < 1e-5,
             "{w}"
         );
+    }
+
+    /// A walk stopped anywhere (mid-cell too) and extended gives the spans of one whole walk.
+    #[test]
+    fn extended_walk_matches_one_walk() {
+        use crate::volume::GridTransform;
+        use glam::DVec3;
+        let dims = IVec3::new(12, 10, 9);
+        let n = (dims.x * dims.y * dims.z) as usize;
+        let values: Vec<f32> = (0..n).map(|i| ((i * 7919) % 101) as f32 / 50.0).collect();
+        let t = GridTransform::scale_translate("ScaleMap", DVec3::ONE, DVec3::ZERO).unwrap();
+        let grid = FloatGrid::from_dense("d", IVec3::new(-2, 0, -3), dims, &values, t).unwrap();
+        let o = Vec3::new(-2.5, 0.3, -2.9);
+        let d = Vec3::new(1.0, 0.6, 0.75);
+        let depth = |w: &mut VoxelWalk| {
+            w.map(|s| (s.t1 - s.t0) * s.density.integral(1.0))
+                .sum::<f32>()
+        };
+        let whole = depth(&mut VoxelWalk::new(&grid, false, o, d, 0.1, 9.0));
+        let mut walk = VoxelWalk::new(&grid, false, o, d, 0.1, 2.37);
+        let mut split = depth(&mut walk);
+        for end in [3.0, 4.111, 6.5, 9.0] {
+            walk.extend_to(end);
+            split += depth(&mut walk);
+        }
+        assert!((split - whole).abs() <= 1e-5 * whole, "{split} vs {whole}");
     }
 }

@@ -13,11 +13,12 @@
 //! fewer steps there. Segments are independent (exponential targets are
 //! memoryless), so mixing the two along one ray stays unbiased.
 
-use super::{collide, negligible, roulette, FreeFlight, Step, Tally};
+use super::{collide, negligible, roulette, FreeFlight, Step, Tally, ROULETTE_THRESHOLD};
 use super::{CAPPED_RAYS, MAX_TENTATIVE_COLLISIONS};
 use crate::color::Rgb;
 use crate::math::Ray;
-use crate::medium::voxel::VoxelSpan;
+use crate::math::Vec3;
+use crate::medium::voxel::{VoxelSpan, VoxelWalk};
 use crate::medium::{GridMedium, MajorantSegment};
 use crate::sampling::Sampler;
 use std::sync::atomic::Ordering;
@@ -55,58 +56,163 @@ pub(super) fn grid_transmittance(
     let segments = medium.majorants(ray, t_max);
     let (o, d) = segments.index_ray();
     let rate = medium.exact_rate(d);
-    let k = medium.sigma_t_unit();
-    let mut tr = Rgb::WHITE;
+    let mut walk = Walk::default();
+    let mut tr = ExactProduct::new(medium.sigma_t_unit());
     let mut tally = Tally::default();
     let mut budget = Budget(0);
     for seg in segments {
         if seg.sigma_maj < rate {
-            if !ratio_segment(medium, &seg, ray, &mut tr, &mut budget, &mut tally, sampler) {
-                return tr;
+            let mut w = tr.value();
+            let go_on = ratio_segment(medium, &seg, ray, &mut w, &mut budget, &mut tally, sampler);
+            if !go_on {
+                return w;
             }
+            tr = ExactProduct::from(w, medium.sigma_t_unit());
             continue;
         }
-        for span in medium.voxels(o, d, seg.t0, seg.t1) {
+        let spans = walk.over(medium, o, d, &seg);
+        for span in spans.by_ref() {
             if !budget.take() {
                 return Rgb::BLACK;
             }
             tally.voxel();
             let len = span.t1 - span.t0;
-            if span.min_corner < 0.0 {
+            if span.clamped {
                 // The lookup's clamp to 0 makes the density no cubic here: ratio tracking
                 // against the cell's own bound.
-                let maj = span_majorant(&span, k.max_channel());
-                let mut t = span.t0;
-                loop {
-                    t += exp_target(sampler) / maj;
-                    if t >= span.t1 {
-                        break;
-                    }
-                    if !budget.take() {
-                        return Rgb::BLACK;
-                    }
-                    let sigma_t = k * span.density.eval((t - span.t0) / len).max(0.0);
-                    tally.add(sigma_t.max_channel(), maj);
-                    tr *= Rgb::WHITE - sigma_t / maj;
-                    if negligible(tr) {
-                        return tr;
-                    }
-                    if !roulette(&mut tr, sampler) {
-                        return Rgb::BLACK;
-                    }
+                let mut w = tr.value();
+                if !ratio_span(
+                    &span,
+                    &mut w,
+                    &mut budget,
+                    &mut tally,
+                    sampler,
+                    medium.sigma_t_unit(),
+                ) {
+                    return w;
                 }
+                tr = ExactProduct::from(w, medium.sigma_t_unit());
                 continue;
             }
-            tr *= k.depth_over(len * span.density.integral(1.0)).exp_neg();
-            if negligible(tr) {
-                return tr;
-            }
-            if !roulette(&mut tr, sampler) {
-                return Rgb::BLACK;
+            if let Some(end) = tr.add(len * span.density.integral(1.0), sampler) {
+                return end;
             }
         }
     }
-    tr
+    tr.value()
+}
+
+/// A transmittance weight times exp(-k·D) for a pending density integral D,
+/// taken out (and Russian roulette played) only once it may be below the
+/// roulette threshold: one exp per flush, not one per voxel.
+struct ExactProduct {
+    weight: Rgb,
+    k: Rgb,
+    depth: f32,
+    /// Largest D for which the product surely stays at or above the threshold.
+    safe_depth: f32,
+}
+
+impl ExactProduct {
+    fn new(k: Rgb) -> ExactProduct {
+        ExactProduct::from(Rgb::WHITE, k)
+    }
+
+    fn from(weight: Rgb, k: Rgb) -> ExactProduct {
+        // max_c w_c e^(-k_c D) ≥ max(w) e^(-max(k) D) ≥ threshold while D ≤ safe_depth.
+        let m = weight.map(f32::abs).max_channel();
+        let safe_depth = if m > 0.0 && k.max_channel() > 0.0 {
+            ((m / ROULETTE_THRESHOLD).ln() / k.max_channel()).max(0.0)
+        } else {
+            0.0
+        };
+        ExactProduct {
+            weight,
+            k,
+            depth: 0.0,
+            safe_depth,
+        }
+    }
+
+    /// The product so far.
+    fn value(&self) -> Rgb {
+        self.weight * self.k.depth_over(self.depth).exp_neg()
+    }
+
+    /// Multiplies in exp(-k·`depth`); `Some(final value)` when tracking is over.
+    #[inline]
+    fn add(&mut self, depth: f32, sampler: &mut Sampler) -> Option<Rgb> {
+        self.depth += depth;
+        if self.depth <= self.safe_depth {
+            return None;
+        }
+        let mut w = self.value();
+        if negligible(w) {
+            return Some(w);
+        }
+        if !roulette(&mut w, sampler) {
+            return Some(Rgb::BLACK);
+        }
+        *self = ExactProduct::from(w, self.k);
+        None
+    }
+}
+
+/// A voxel walk kept across consecutive dense segments of one ray.
+#[derive(Default)]
+struct Walk<'a> {
+    walk: Option<VoxelWalk<'a>>,
+}
+
+impl<'a> Walk<'a> {
+    /// The walk over `seg`: the previous one extended when `seg` starts where it stopped.
+    fn over(
+        &mut self,
+        medium: &'a GridMedium,
+        o: Vec3,
+        d: Vec3,
+        seg: &MajorantSegment,
+    ) -> &mut VoxelWalk<'a> {
+        match &mut self.walk {
+            Some(w) if w.reach() == (seg.t0, seg.t0) => w.extend_to(seg.t1),
+            w => *w = Some(medium.voxels(o, d, seg.t0, seg.t1)),
+        }
+        self.walk.as_mut().expect("just set")
+    }
+}
+
+/// Ratio tracking inside one clamped voxel span into `w`; false when tracking is over (`w` final).
+fn ratio_span(
+    span: &VoxelSpan,
+    w: &mut Rgb,
+    budget: &mut Budget,
+    tally: &mut Tally,
+    sampler: &mut Sampler,
+    k: Rgb,
+) -> bool {
+    let maj = span_majorant(span, k.max_channel());
+    let len = span.t1 - span.t0;
+    let mut t = span.t0;
+    loop {
+        t += exp_target(sampler) / maj;
+        if t >= span.t1 {
+            return true;
+        }
+        if !budget.take() {
+            *w = Rgb::BLACK;
+            return false;
+        }
+        let sigma_t = k * span.density.eval((t - span.t0) / len).max(0.0);
+        tally.add(sigma_t.max_channel(), maj);
+        *w *= Rgb::WHITE - sigma_t / maj;
+        if negligible(*w) {
+            return false;
+        }
+        if !roulette(w, sampler) {
+            *w = Rgb::BLACK;
+            return false;
+        }
+    }
 }
 
 /// The null-collision bound of one voxel span: σt per unit density times its largest corner, padded for rounding.
@@ -170,6 +276,7 @@ pub(super) fn grid_free_flight(
     let rate = medium.exact_rate(d);
     let mut tally = Tally::default();
     let mut budget = Budget(0);
+    let mut walk = Walk::default();
     let mut io = FlightState {
         medium,
         ray,
@@ -183,7 +290,7 @@ pub(super) fn grid_free_flight(
         let piece = if seg.sigma_maj < rate {
             io.null_span(seg.t0, seg.t1, seg.sigma_maj, None, sampler)
         } else {
-            io.exact_segment(medium.voxels(o, d, seg.t0, seg.t1), sampler)
+            io.exact_segment(walk.over(medium, o, d, &seg), sampler)
         };
         if let Flight::Done(f) = piece {
             return f;
@@ -211,11 +318,7 @@ impl FlightState<'_, '_> {
     }
 
     /// Walks the voxel spans of a dense segment, inverting the exact optical depth.
-    fn exact_segment(
-        &mut self,
-        spans: impl Iterator<Item = VoxelSpan>,
-        sampler: &mut Sampler,
-    ) -> Flight {
+    fn exact_segment(&mut self, spans: &mut VoxelWalk, sampler: &mut Sampler) -> Flight {
         let k = self.medium.sigma_t_unit().max_channel();
         // Target in units of density × length (k is grey here).
         let mut target = exp_target(sampler) / k;
@@ -224,7 +327,7 @@ impl FlightState<'_, '_> {
                 return self.capped();
             }
             self.tally.voxel();
-            if span.min_corner < 0.0 {
+            if span.clamped {
                 let maj = span_majorant(&span, k);
                 if let Flight::Done(f) = self.null_span(span.t0, span.t1, maj, Some(&span), sampler)
                 {
