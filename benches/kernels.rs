@@ -1,7 +1,9 @@
 //! The hot kernels of the bench scenes (scenes/bench), one criterion group each:
 //! BVH closest-hit and shadow rays (rays/s), trilinear lookup (lookups/s), the
 //! majorant DDA (cells/s), each transmittance estimator and free-flight
-//! sampling (rays/s): `cargo bench --bench kernels`.
+//! sampling (rays/s), and the exact voxel walk of dense cells beside null
+//! collisions on the smoke at density_scale 1e6 (rays/s, voxel spans/s):
+//! `cargo bench --bench kernels`.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -13,10 +15,13 @@ use brume::integrator::tracking::{
     sample_free_flight, TransmittanceEstimator,
 };
 use brume::integrator::Scene;
-use brume::math::{Ray, Vec3};
-use brume::medium::Medium;
+use brume::math::{Affine3A, Ray, Vec3};
+use brume::medium::{
+    ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,
+};
 use brume::sampling::Sampler;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use std::sync::Arc;
 
 /// Rays per iteration of every benchmark.
 const RAYS: usize = 1024;
@@ -118,7 +123,10 @@ fn estimators(c: &mut Criterion) {
     let medium = &s.media[0];
     let mut g = c.benchmark_group("transmittance b3");
     g.throughput(Throughput::Elements(rays.len() as u64));
-    let list: [(&str, Estimator); 3] = [
+    let auto: Estimator =
+        |m, r, t, s| medium_transmittance(m, r, t, TransmittanceEstimator::Auto, s);
+    let list: [(&str, Estimator); 4] = [
+        ("auto (ratio; exact voxels in dense cells)", auto),
         ("ratio", ratio_tracking),
         ("residual ratio", residual_ratio_tracking),
         ("delta", delta_tracking_transmittance),
@@ -192,11 +200,126 @@ fn free_flight(c: &mut Criterion) {
     g.finish();
 }
 
+/// The smoke plume at density_scale 1e6, albedo 1 (issue 11), walked exactly or by null collisions.
+fn dense_smoke(exact: ExactVoxels) -> Medium {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("volumes/smoke_plume.vdb");
+    let grid = brume::volume::load_float_grid(&path, "density").expect("smoke_plume.vdb");
+    let params = GridMediumParams {
+        to_world: Affine3A::IDENTITY,
+        density_scale: 1e6,
+        sigma_t_scale: Rgb::WHITE,
+        albedo: Rgb::WHITE,
+        phase: PhaseFunction::Isotropic,
+        emission: GridEmission::None,
+        majorant: MajorantMode::Grid,
+        // Null collisions only: the one-voxel cells the medium would get without exact walks.
+        cell_size: (exact == ExactVoxels::Never).then_some(1),
+    };
+    let mut m = GridMedium::new(grid, params);
+    m.set_exact_voxels(exact);
+    Medium::Grid(Arc::new(m))
+}
+
+/// Rays from (0, 1, 4) toward the plume's box (the reliability scene's view).
+fn dense_rays() -> Vec<Ray> {
+    let mut sampler = Sampler::from_seed(0xde75e);
+    let (lo, hi) = (Vec3::new(0.32, 0.02, 0.32), Vec3::new(1.72, 1.88, 1.70));
+    let o = Vec3::new(0.0, 1.0, 4.0);
+    (0..RAYS)
+        .map(|_| {
+            let u = Vec3::new(sampler.next_1d(), sampler.next_1d(), sampler.next_1d());
+            Ray::new(o, (lo + (hi - lo) * u - o).normalize())
+        })
+        .collect()
+}
+
+fn dense(c: &mut Criterion) {
+    let rays = dense_rays();
+    let mut g = c.benchmark_group("dense smoke 1e6");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(rays.len() as u64));
+    for (name, exact) in [("exact", ExactVoxels::Auto), ("null", ExactVoxels::Never)] {
+        let m = dense_smoke(exact);
+        let mut pass = 0u64;
+        g.bench_function(format!("transmittance {name}"), |b| {
+            b.iter(|| {
+                pass += 1;
+                let mut sampler = Sampler::new(3, 0, 0, pass);
+                rays.iter()
+                    .map(|r| {
+                        medium_transmittance(
+                            &m,
+                            r,
+                            10.0,
+                            TransmittanceEstimator::Auto,
+                            &mut sampler,
+                        )
+                        .r
+                    })
+                    .sum::<f32>()
+            })
+        });
+        let media = [m.clone()];
+        g.bench_function(format!("free flight {name}"), |b| {
+            b.iter(|| {
+                pass += 1;
+                let mut sampler = Sampler::new(4, 0, 0, pass);
+                rays.iter()
+                    .map(|r| {
+                        let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+                        let e = sample_free_flight(
+                            &media,
+                            r,
+                            10.0,
+                            &mut beta,
+                            &mut radiance,
+                            &mut sampler,
+                        );
+                        matches!(e, brume::integrator::tracking::FreeFlight::Scatter { .. })
+                            as usize
+                    })
+                    .sum::<usize>()
+            })
+        });
+    }
+    // The walk alone: every voxel span of the rays through the box (corner fetch and cubic).
+    let Medium::Grid(m) = dense_smoke(ExactVoxels::Always) else {
+        unreachable!()
+    };
+    let index_rays: Vec<(Vec3, Vec3, f32, f32)> = rays
+        .iter()
+        .filter_map(|r| {
+            let segs = m.majorants(r, 10.0);
+            let (o, d) = segs.index_ray();
+            let ts: Vec<_> = segs.map(|s| (s.t0, s.t1)).collect();
+            Some((o, d, ts.first()?.0, ts.last()?.1))
+        })
+        .collect();
+    let spans: usize = index_rays
+        .iter()
+        .map(|&(o, d, t0, t1)| m.voxels(o, d, t0, t1).count())
+        .sum();
+    g.throughput(Throughput::Elements(spans as u64));
+    g.bench_function("voxel spans", |b| {
+        b.iter(|| {
+            index_rays
+                .iter()
+                .map(|&(o, d, t0, t1)| {
+                    m.voxels(black_box(o), d, t0, t1)
+                        .map(|s| s.density.integral(1.0))
+                        .sum::<f32>()
+                })
+                .sum::<f32>()
+        })
+    });
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
-    targets = bvh, lookups, estimators, free_flight
+    targets = bvh, lookups, estimators, free_flight, dense
 }
 criterion_main!(benches);

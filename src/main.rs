@@ -781,11 +781,13 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         exr.display(),
         png.display()
     );
-    if out.tracking.collisions > 0 {
+    if out.tracking.lookups() > 0 {
+        let per_sample = |n: u64| n as f64 / out.samples.max(1) as f64;
         eprintln!(
-            "tracking: {:.2} tentative collisions per sample, null fraction {:.3}",
-            out.tracking.collisions as f64 / out.samples.max(1) as f64,
-            out.tracking.null_fraction()
+            "tracking: {:.2} tentative collisions per sample, null fraction {:.3}, {:.2} exact voxel steps per sample",
+            per_sample(out.tracking.collisions),
+            out.tracking.null_fraction(),
+            per_sample(out.tracking.voxel_steps)
         );
     }
     if out.nonfinite_samples > 0 {

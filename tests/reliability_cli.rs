@@ -50,6 +50,11 @@ fn string(out: &mut Vec<u8>, s: &str) {
 
 /// A one-grid VDB (format 224, uncompressed) holding one active root tile of `value`.
 fn tile_vdb(value: f32) -> Vec<u8> {
+    tile_vdb_grids(&[("density", value)])
+}
+
+/// A VDB (format 224, uncompressed) of grids, each one active root tile of its value.
+fn tile_vdb_grids(grids: &[(&str, f32)]) -> Vec<u8> {
     let mut f = Vec::new();
     f.extend(0x5644_4220u64.to_le_bytes());
     f.extend(224u32.to_le_bytes());
@@ -57,33 +62,35 @@ fn tile_vdb(value: f32) -> Vec<u8> {
     f.push(1);
     f.extend(b"00000000-0000-0000-0000-000000000000");
     f.extend(0u32.to_le_bytes());
-    f.extend(1i32.to_le_bytes());
-    string(&mut f, "density");
-    string(&mut f, "Tree_float_5_4_3");
-    string(&mut f, "");
-    let offsets_at = f.len();
-    f.extend([0u8; 24]);
-    let grid_pos = f.len();
-    f.extend(0u32.to_le_bytes());
-    f.extend(0u32.to_le_bytes());
-    string(&mut f, "UniformScaleMap");
-    for v in [
-        0.5f64, 0.5, 0.5, 0.5, 0.5, 0.5, 2.0, 2.0, 2.0, 4.0, 4.0, 4.0, 1.0, 1.0, 1.0,
-    ] {
-        f.extend(v.to_le_bytes());
-    }
-    f.extend(1i32.to_le_bytes());
-    f.extend(0f32.to_le_bytes());
-    f.extend(1u32.to_le_bytes());
-    f.extend(0u32.to_le_bytes());
-    for c in [0i32, 0, 0] {
-        f.extend(c.to_le_bytes());
-    }
-    f.extend(value.to_le_bytes());
-    f.push(1);
-    let end = f.len() as i64;
-    for (i, o) in [grid_pos as i64, end, end].iter().enumerate() {
-        f[offsets_at + 8 * i..offsets_at + 8 * i + 8].copy_from_slice(&o.to_le_bytes());
+    f.extend((grids.len() as i32).to_le_bytes());
+    for &(name, value) in grids {
+        string(&mut f, name);
+        string(&mut f, "Tree_float_5_4_3");
+        string(&mut f, "");
+        let offsets_at = f.len();
+        f.extend([0u8; 24]);
+        let grid_pos = f.len();
+        f.extend(0u32.to_le_bytes());
+        f.extend(0u32.to_le_bytes());
+        string(&mut f, "UniformScaleMap");
+        for v in [
+            0.5f64, 0.5, 0.5, 0.5, 0.5, 0.5, 2.0, 2.0, 2.0, 4.0, 4.0, 4.0, 1.0, 1.0, 1.0,
+        ] {
+            f.extend(v.to_le_bytes());
+        }
+        f.extend(1i32.to_le_bytes());
+        f.extend(0f32.to_le_bytes());
+        f.extend(1u32.to_le_bytes());
+        f.extend(0u32.to_le_bytes());
+        for c in [0i32, 0, 0] {
+            f.extend(c.to_le_bytes());
+        }
+        f.extend(value.to_le_bytes());
+        f.push(1);
+        let end = f.len() as i64;
+        for (i, o) in [grid_pos as i64, end, end].iter().enumerate() {
+            f[offsets_at + 8 * i..offsets_at + 8 * i + 8].copy_from_slice(&o.to_le_bytes());
+        }
     }
     f
 }
@@ -101,7 +108,8 @@ fn smoke() -> String {
 
 /// Sets up a case's folder: `s.toml`, an earlier image `keep.exr`/`keep.png`,
 /// a cube `m.obj`, a folder `dir`, a FIFO `fifo` and VDBs `inf.vdb`,
-/// `nan.vdb`, `big.vdb` (3e38), `neg.vdb` (-1) and `one.vdb` (1).
+/// `nan.vdb`, `big.vdb` (3e38), `neg.vdb` (-1), `one.vdb` (1) and `glow.vdb`
+/// (a `density` of 1 beside an emission grid `glow` of +inf).
 fn setup(dir: &Path, scene_text: &str) {
     std::fs::write(dir.join("s.toml"), scene_text).unwrap();
     std::fs::write(dir.join("keep.exr"), b"an earlier EXR image").unwrap();
@@ -123,6 +131,8 @@ fn setup(dir: &Path, scene_text: &str) {
     ] {
         std::fs::write(dir.join(format!("{name}.vdb")), tile_vdb(v)).unwrap();
     }
+    let glow = tile_vdb_grids(&[("density", 1.0), ("glow", f32::INFINITY)]);
+    std::fs::write(dir.join("glow.vdb"), glow).unwrap();
 }
 
 /// Contents of every regular file in `dir` (FIFOs and folders left out).
@@ -555,6 +565,26 @@ fn grid_cases() -> Vec<Case> {
             &render(&[]),
             2,
             "medium[0].emission_scale",
+        ),
+        case(
+            "+inf emission grid",
+            scene(&vdb_medium(
+                "glow.vdb",
+                "albedo = 0.5\nemission_grid = \"glow\"",
+            )),
+            &render(&[]),
+            2,
+            "medium[0].emission_grid: grid 'glow' holds 1 non-finite values (0 NaN, 1 +inf",
+        ),
+        case(
+            "finite emission grid beside it",
+            scene(&vdb_medium(
+                "glow.vdb",
+                "albedo = 0.5\nemission_grid = \"density\"",
+            )),
+            &render(&["--out", "o.exr", "--png", "o.png"]),
+            0,
+            "",
         ),
     ]
 }

@@ -417,7 +417,8 @@ def scene_file(key, resolution, spp, work):
 
 
 RATE_RE = re.compile(r"at (\d+) spp in ([0-9.]+) s")
-TRACK_RE = re.compile(r"tracking: ([0-9.]+) tentative collisions per sample, null fraction ([0-9.]+)")
+TRACK_RE = re.compile(r"tracking: ([0-9.]+) tentative collisions per sample, null fraction ([0-9.]+)"
+                      r"(?:, ([0-9.]+) exact voxel steps per sample)?")
 
 
 def run_brume(key, resolution, spp, threads, seed, work, out_name):
@@ -434,7 +435,8 @@ def run_brume(key, resolution, spp, threads, seed, work, out_name):
     return {"image": read_exr(exr), "seconds": seconds, "spp": int(m.group(1)), "rss": rss,
             "load_seconds": wall - seconds,
             "collisions": float(t.group(1)) if t else None,
-            "null_fraction": float(t.group(2)) if t else None}
+            "null_fraction": float(t.group(2)) if t else None,
+            "voxel_steps": float(t.group(3)) if t and t.group(3) else 0.0}
 
 
 def brume_spp_for(key, resolution, threads, seconds, work):
@@ -459,7 +461,7 @@ def run_mitsuba(variant, key, resolution, spp, threads, seed, work, seconds=0.0)
     import numpy as np
     r = json.loads(stdout.strip().splitlines()[-1])
     return {"image": np.load(out), "seconds": r["seconds"], "spp": r["spp"], "rss": rss,
-            "load_seconds": None, "collisions": None, "null_fraction": None}
+            "load_seconds": None, "collisions": None, "null_fraction": None, "voxel_steps": None}
 
 
 def have_mitsuba():
@@ -594,7 +596,8 @@ def markdown(rows, args, renderers, machine, vdb_stats):
             f"{get(b, 'noise', lambda x: f'{x:.3f}')} / {get(l, 'noise', lambda x: f'{x:.3f}')}",
             f"{get(b, 'mean_ratio', lambda x: f'{x:.4f}')} / {get(l, 'mean_ratio', lambda x: f'{x:.4f}')}",
             ratio(l), ratio(sc),
-            get(b, "null_fraction", lambda x: f"{x:.3f}"), get(b, "collisions", lambda x: f"{x:.1f}"),
+            get(b, "null_fraction", lambda x: f"{x:.3f}"), get(b, "collisions", lambda x: f"{x:.1f}") + (
+                f" + {b['voxel_steps']:.1f} voxel steps" if b.get("voxel_steps") else ""),
             f"{get(b, 'rss', lambda x: f'{x / 2**20:.0f} MiB')} / {get(l, 'rss', lambda x: f'{x / 2**20:.0f} MiB')}",
         ]) + " |")
     return "\n".join(L)

@@ -10,7 +10,10 @@
 //!
 //! A ray costs one step per tentative collision, σ̄·d of them on average, so
 //! a dense volume (`density_scale = 1e6`) or a loose majorant could make one
-//! ray take millions of steps. Two mechanisms bound it:
+//! ray take millions of steps. Three mechanisms bound it:
+//!
+//! * Dense cells of grid media are walked voxel by voxel with exact optical
+//!   depths (module `exact`): about one voxel step per event, however dense.
 //!
 //! * Russian roulette on the transmittance weight (ratio and residual ratio
 //!   tracking): once every channel of the running product is below
@@ -19,8 +22,9 @@
 //!   (p · T/p = T), so the estimator stays unbiased; a shadow ray through a
 //!   thick medium ends after the few steps that take T below the threshold
 //!   instead of walking on until T underflows.
-//! * A hard cap of [`MAX_TENTATIVE_COLLISIONS`] per medium per ray, for the
-//!   cases roulette cannot shorten (free flight through a loose majorant).
+//! * A hard cap of [`MAX_TENTATIVE_COLLISIONS`] per medium per ray (tentative
+//!   collisions and exact voxel steps), for the cases roulette cannot shorten
+//!   (free flight through a loose majorant where no exact walk applies).
 //!   A ray reaching it is ended, its transmittance or throughput set to zero
 //!   (a bias toward dark, in pathological scenes only), and counted: the
 //!   render reports how many rays hit the cap, as it reports non-finite
@@ -34,6 +38,7 @@ use kernel::{dispatch, TrackedMedium};
 use stats::Tally;
 pub use stats::{take_thread_stats, TrackingStats};
 
+mod exact;
 mod kernel;
 mod stats;
 
@@ -210,9 +215,14 @@ pub fn medium_transmittance(
     sampler: &mut Sampler,
 ) -> Rgb {
     match estimator {
-        TransmittanceEstimator::Auto => match medium.optical_depth(ray, 0.0, t_max) {
-            Some(tau) => tau.exp_neg(),
-            None => ratio_tracking(medium, ray, t_max, sampler),
+        TransmittanceEstimator::Auto => match medium {
+            Medium::Grid(g) if g.may_walk_exactly(ray, false) => {
+                exact::grid_transmittance(g, ray, t_max, sampler)
+            }
+            _ => match medium.optical_depth(ray, 0.0, t_max) {
+                Some(tau) => tau.exp_neg(),
+                None => ratio_tracking(medium, ray, t_max, sampler),
+            },
         },
         TransmittanceEstimator::Delta => delta_tracking_transmittance(medium, ray, t_max, sampler),
         TransmittanceEstimator::Ratio => ratio_tracking(medium, ray, t_max, sampler),
@@ -415,6 +425,11 @@ pub fn sample_free_flight(
 ) -> FreeFlight {
     if let [medium] = media {
         // One medium (the common case): no earliest-collision search, no tracker array.
+        if let Medium::Grid(g) = medium {
+            if g.may_walk_exactly(ray, true) {
+                return exact::grid_free_flight(g, ray, t_max, throughput, radiance, sampler);
+            }
+        }
         let tracker = Tracker::new(medium, ray, t_max);
         return dispatch!(medium, m => {
             free_flight_one(m, tracker, ray, t_max, throughput, radiance, sampler)

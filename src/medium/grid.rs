@@ -24,6 +24,7 @@ use glam::{DMat4, IVec3, Mat4};
 use super::blackbody::BlackbodyTable;
 use super::majorant_grid::{Dda, MajorantGrid};
 use super::motion::{self, GridMotion, MotionLookup};
+use super::voxel::VoxelWalk;
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
 use crate::color::Rgb;
 use crate::math::{Affine3A, Bounds3, Ray, Vec3};
@@ -38,6 +39,28 @@ pub enum MajorantMode {
     /// One bound for the whole volume (for comparison).
     Global,
 }
+
+/// Where tracking integrates the trilinear density exactly, voxel cell by
+/// voxel cell (`medium::voxel`), instead of taking null collisions.
+///
+/// Both are unbiased; the choice is one of cost. A majorant segment costs
+/// σ̄ tentative collisions per unit length under null-collision tracking and
+/// about ‖d‖₁ voxel steps (d: the index-space direction) under the exact walk.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ExactVoxels {
+    /// Exact in majorant segments with at least [`EXACT_VOXEL_DEPTH`] expected
+    /// tentative collisions per voxel step (dense cells), null collisions elsewhere.
+    #[default]
+    Auto,
+    /// Exact everywhere (for tests).
+    Always,
+    /// Null collisions everywhere (for tests and comparisons).
+    Never,
+}
+
+/// Expected tentative collisions per voxel step above which a majorant
+/// segment is walked voxel by voxel with exact optical depths (see [`ExactVoxels`]).
+pub const EXACT_VOXEL_DEPTH: f32 = 1.0;
 
 /// Where the emitted radiance Le of a grid medium comes from (the source term is σa·Le).
 #[derive(Clone, Debug, Default)]
@@ -121,6 +144,12 @@ pub struct GridMedium {
     motion: Option<MotionLookup>,
     /// Index-space box tracked by the DDA: `bounds`, dilated by the motion over the shutter.
     track_bounds: Bounds3,
+    /// Where tracking integrates voxels exactly.
+    exact: ExactVoxels,
+    /// Whether some stored value (or the background) is negative, so that the lookup's clamp to 0 can act.
+    may_clamp: bool,
+    /// The largest majorant of any cell (per unit ray parameter).
+    peak_majorant: f32,
 }
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
@@ -191,6 +220,7 @@ impl GridMedium {
         motion: Option<GridMotion>,
     ) -> GridMedium {
         let world_to_index = index_map(&density, &params.to_world);
+        let may_clamp = density.background() < 0.0 || density.blocks().any(|b| b.min_value < 0.0);
         // Trilinear lookups reach one voxel beyond the active voxels.
         let (lo, hi) = density
             .index_bbox_active()
@@ -200,11 +230,19 @@ impl GridMedium {
         let peak = density.value_range().1.max(density.background()).max(0.0)
             * (params.sigma_t_scale * params.density_scale).max_channel()
             * voxel_world_length(&density, &params.to_world);
+        // Dense cells are walked voxel by voxel (`ExactVoxels`) where the medium
+        // allows it; only media that always take null collisions need cells
+        // shrunk to their density.
+        let exact_walks = motion.is_none()
+            && params.sigma_t_scale.min_channel() == params.sigma_t_scale.max_channel();
         let cell = match params.majorant {
             MajorantMode::Grid => Vec3::splat(
                 params
                     .cell_size
-                    .unwrap_or_else(|| default_cell_size(extent).min(dense_cell_size(peak, extent)))
+                    .unwrap_or_else(|| match exact_walks {
+                        true => default_cell_size(extent),
+                        false => default_cell_size(extent).min(dense_cell_size(peak, extent)),
+                    })
                     .max(1) as f32,
             ),
             MajorantMode::Global => extent.as_vec3(),
@@ -244,6 +282,8 @@ impl GridMedium {
                 emission_scale,
             },
         };
+        let peak_majorant =
+            majorants.global_max() * (params.sigma_t_scale * params.density_scale).max_channel();
         GridMedium {
             density,
             world_to_index,
@@ -258,7 +298,54 @@ impl GridMedium {
                 min: track_lo,
                 max: track_hi,
             },
+            exact: ExactVoxels::Auto,
+            may_clamp,
+            peak_majorant,
         }
+    }
+
+    /// Chooses where tracking integrates voxels exactly (default [`ExactVoxels::Auto`]).
+    pub fn set_exact_voxels(&mut self, exact: ExactVoxels) {
+        self.exact = exact;
+    }
+
+    /// Whether tracking may walk voxels exactly: for free flights (`flight`)
+    /// the extinction must be grey, so that one distance distribution serves
+    /// every channel (transmittance is exact per channel); moving media are
+    /// looked up at displaced points, not along a line, so never.
+    #[inline]
+    pub fn exact_possible(&self, flight: bool) -> bool {
+        let k = self.sigma_t_unit;
+        self.exact != ExactVoxels::Never
+            && self.motion.is_none()
+            && !(flight && k.min_channel() != k.max_channel())
+    }
+
+    /// Whether some segment of `ray` may be walked exactly: [`Self::exact_possible`],
+    /// and the volume's largest majorant reaches [`Self::exact_rate`] for this
+    /// direction (else tracking keeps its null-collision loops, untouched).
+    #[inline]
+    pub fn may_walk_exactly(&self, ray: &Ray, flight: bool) -> bool {
+        self.exact_possible(flight)
+            && self.peak_majorant
+                >= self.exact_rate(self.world_to_index.transform_vector3(ray.direction))
+    }
+
+    /// The majorant (per unit ray parameter) at or above which a segment of a
+    /// ray with index-space direction `d` is walked exactly.
+    #[inline]
+    pub fn exact_rate(&self, d: Vec3) -> f32 {
+        match self.exact {
+            ExactVoxels::Never => f32::INFINITY,
+            ExactVoxels::Always => 0.0,
+            ExactVoxels::Auto => EXACT_VOXEL_DEPTH * d.abs().element_sum(),
+        }
+    }
+
+    /// The voxel cells the index-space ray `o + t·d` crosses over `[t0, t1]`, with the density along each.
+    #[inline]
+    pub fn voxels(&self, o: Vec3, d: Vec3, t0: f32, t1: f32) -> VoxelWalk<'_> {
+        VoxelWalk::new(&self.density, self.may_clamp, o, d, t0, t1)
     }
 
     /// The density grid.
@@ -274,6 +361,11 @@ impl GridMedium {
     /// σt per unit density (per channel).
     pub fn sigma_t_unit(&self) -> Rgb {
         self.sigma_t_unit
+    }
+
+    /// Single-scattering albedo σs/σt.
+    pub fn albedo(&self) -> Rgb {
+        self.albedo
     }
 
     /// Clamped density at world point `p`.
@@ -297,7 +389,13 @@ impl GridMedium {
     /// Coefficients at world point `p`.
     #[inline]
     pub fn properties(&self, p: Vec3) -> MediumProperties {
-        let sigma_t = self.sigma_t_unit * self.density(p);
+        self.properties_with_density(p, self.density(p))
+    }
+
+    /// Coefficients at world point `p` where the (clamped) density is `density`.
+    #[inline]
+    pub fn properties_with_density(&self, p: Vec3, density: f32) -> MediumProperties {
+        let sigma_t = self.sigma_t_unit * density;
         let sigma_s = sigma_t * self.albedo;
         let sigma_a = sigma_t - sigma_s;
         let emission = if sigma_a.is_black() {
@@ -389,6 +487,8 @@ impl GridMedium {
                     .walk(index_ray.origin, index_ray.direction, t0, t1)
             });
         GridMajorants {
+            origin: index_ray.origin,
+            direction: index_ray.direction,
             // Borrowed, not an Arc clone: no atomic on a shared cache line per ray.
             grid: &self.majorants,
             dda,
@@ -400,9 +500,18 @@ impl GridMedium {
 /// The majorant segments of a grid medium along one ray (a DDA over majorant cells).
 #[derive(Clone, Debug)]
 pub struct GridMajorants<'a> {
+    origin: Vec3,
+    direction: Vec3,
     grid: &'a MajorantGrid,
     dda: Option<Dda>,
     sigma_t_unit: Rgb,
+}
+
+impl GridMajorants<'_> {
+    /// The ray in index space (origin, direction), with the world ray's parameter.
+    pub fn index_ray(&self) -> (Vec3, Vec3) {
+        (self.origin, self.direction)
+    }
 }
 
 impl Iterator for GridMajorants<'_> {

@@ -15,8 +15,9 @@ pub mod majorant_grid;
 pub mod motion;
 pub mod phase;
 pub mod region;
+pub mod voxel;
 
-pub use grid::{GridEmission, GridMedium, GridMediumParams, MajorantMode};
+pub use grid::{ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode};
 pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
 pub use interior::{InteriorContent, InteriorMedium, ShapeMask};

@@ -492,6 +492,30 @@ impl FloatGrid {
         }
     }
 
+    /// The eight stored values around voxel cell `i` (corners `i + (dx, dy, dz)`,
+    /// at index `4·dx + 2·dy + dz`): what a trilinear lookup anywhere in the cell reads.
+    ///
+    /// One table lookup when the cell lies inside one brick (7 in 8 per axis).
+    #[inline]
+    pub fn corners(&self, i: IVec3) -> [f32; 8] {
+        let i = i.clamp(IVec3::splat(-1_000_000_000), IVec3::splat(1_000_000_000));
+        if (i & 7).cmpne(IVec3::splat(7)).all() {
+            match self.brick(i >> 3i32) {
+                Some(e) if e & TILE_FLAG == 0 => {
+                    let base = e as usize * LEAF_VOXELS + leaf_offset(i);
+                    let v = &self.leaf_values[base..base + 74];
+                    return [v[0], v[1], v[8], v[9], v[64], v[65], v[72], v[73]];
+                }
+                Some(e) => return [self.tiles[(e & !TILE_FLAG) as usize].value; 8],
+                None => return [self.coarse_value(i); 8],
+            }
+        }
+        std::array::from_fn(|n| {
+            let n = n as i32;
+            self.value(i + IVec3::new(n >> 2, (n >> 1) & 1, n & 1))
+        })
+    }
+
     /// Trilinear interpolation at a world-space point.
     pub fn trilinear_world(&self, p: DVec3) -> f32 {
         self.trilinear_index_f64(self.transform.world_to_index(p))
@@ -598,6 +622,31 @@ mod tests {
             Vec3::splat(f32::NAN),
         ] {
             same(p);
+        }
+    }
+
+    /// `corners` reads the same eight values as `value` at every cell, across brick
+    /// boundaries, in the flat table and the hash table, and outside the tree.
+    #[test]
+    fn corners_match_voxel_values() {
+        for g in grids() {
+            for z in -14..20 {
+                for y in 0..25 {
+                    for x in -8..34 {
+                        let i = IVec3::new(x, y, z);
+                        let c = g.corners(i);
+                        for (n, &v) in c.iter().enumerate() {
+                            let n = n as i32;
+                            let o = IVec3::new(n >> 2, (n >> 1) & 1, n & 1);
+                            assert_eq!(
+                                v.to_bits(),
+                                g.value(i + o).to_bits(),
+                                "cell {i} corner {o}"
+                            );
+                        }
+                    }
+                }
+            }
         }
     }
 }
