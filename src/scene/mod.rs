@@ -5,6 +5,7 @@ pub mod animation;
 pub mod description;
 mod envmap;
 mod fog;
+mod keyframes;
 mod materials;
 mod media;
 mod shapes;
@@ -447,16 +448,22 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     if w > 32768 || h > 32768 {
         return Err(check.error("camera.resolution", "at most 32768 pixels a side"));
     }
+    let (position, look_at, up, motion) = camera_placement(desc, position, look_at, up, check)?;
     // In f64: a look_at 1e30 away overflows the f32 length and is not a parallel up.
     let view = look_at.as_dvec3() - position.as_dvec3();
     if view.length() == 0.0 {
         return Err(check.error("camera.look_at", "equals camera.position"));
     }
+    check_camera_range(position, check)?;
     // A step the f32 position can resolve: 1 m, or a thousandth of a huge position.
     let step = position.length().max(1.0) * 1e-3 + 1.0;
     let aim = position + (view / view.length()).as_vec3() * step;
     let camera = Camera::new(position, aim, up, c.fov, w, h)
         .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))?;
+    let camera = match motion {
+        Some(keys) => camera.with_motion(keys),
+        None => camera,
+    };
     let axis = match c.fov_axis.as_deref() {
         None | Some("y" | "vertical") => FovAxis::Vertical,
         Some("x" | "horizontal") => FovAxis::Horizontal,
@@ -482,6 +489,62 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
         None => view.length() as f32,
     };
     Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
+}
+
+/// Refuses a camera position whose f32 ray arithmetic overflows (issue 11):
+/// |position|² must stay finite for the view frame and every ray it starts.
+fn check_camera_range(position: crate::math::Vec3, check: &Check) -> Result<()> {
+    if position.length_squared().is_finite() {
+        return Ok(());
+    }
+    Err(check.error(
+        "camera.position",
+        format!(
+            "is {:.3e} from the origin: too far for f32 ray arithmetic (at most about {:.1e}); \
+             move the scene toward the origin",
+            position.as_dvec3().length(),
+            f32::MAX.sqrt()
+        ),
+    ))
+}
+
+/// `camera.transform`: a still placement moves position, look_at and up
+/// once; keyframes move the camera rigidly at each sample's time (no scale).
+fn camera_placement(
+    desc: &SceneDesc,
+    position: crate::math::Vec3,
+    look_at: crate::math::Vec3,
+    up: crate::math::Vec3,
+    check: &Check,
+) -> Result<(
+    crate::math::Vec3,
+    crate::math::Vec3,
+    crate::math::Vec3,
+    Option<crate::math::keyframes::Keyframes>,
+)> {
+    let Some(t) = desc.camera.transform.as_ref() else {
+        return Ok((position, look_at, up, None));
+    };
+    let scales = std::iter::once(t.scale)
+        .chain(t.keyframes.iter().flatten().map(|k| k.scale))
+        .flatten();
+    for s in scales {
+        if s.0 != [1.0; 3] {
+            return Err(check.error(
+                "camera.transform",
+                "a camera moves rigidly: translate and rotate only, no scale",
+            ));
+        }
+    }
+    Ok(match keyframes::build_placement(Some(t), "camera", check)? {
+        keyframes::Placed::Still(m) => (
+            m.transform_point3(position),
+            m.transform_point3(look_at),
+            m.transform_vector3(up),
+            None,
+        ),
+        keyframes::Placed::Moving(keys) => (position, look_at, up, Some(keys)),
+    })
 }
 
 fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Result<Material> {
