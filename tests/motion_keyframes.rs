@@ -99,7 +99,12 @@ fn a_camera_moving_past_an_edge_gives_the_analytic_ramp() {
         .collect();
     // The ramp is resolved: pixels 6..=9 are partly lit, not 0 or 1.
     assert!((expected[7][0] - 0.625).abs() < 1e-6, "{:?}", expected[7]);
-    assert_pixels(&pixels, &expected, &vec![[0.0; 3]; 32], "moving camera edge ramp");
+    assert_pixels(
+        &pixels,
+        &expected,
+        &vec![[0.0; 3]; 32],
+        "moving camera edge ramp",
+    );
 }
 
 #[test]
@@ -109,7 +114,10 @@ fn still_keyframes_and_a_still_camera_are_bit_identical() {
         "shutter = [-0.5, 0.5]\n transform = { keyframes = [\
          { time = -0.5, translate = [0.0, 0.0, 0.0] }, { time = 0.5 }] }",
     ));
-    assert!(!keyed.camera.is_moving(), "keys that do not move are a still camera");
+    assert!(
+        !keyed.camera.is_moving(),
+        "keys that do not move are a still camera"
+    );
     let a = samples(&plain, 8);
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
     assert_eq!(a, samples(&keyed, 8));

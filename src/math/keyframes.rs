@@ -287,7 +287,10 @@ mod tests {
         let p = Vec3::new(0.3, -0.2, 0.7);
         assert!((mid.point_to_local(mid.point_to_world(p)) - p).length() < 1e-5);
         assert!(Keyframes::new(&[key(0.0, Vec3::ZERO, 0.0, 1.0)]).is_none());
-        assert!(Keyframes::new(&[key(1.0, Vec3::ZERO, 0.0, 1.0), key(1.0, Vec3::X, 0.0, 1.0)]).is_none());
+        assert!(
+            Keyframes::new(&[key(1.0, Vec3::ZERO, 0.0, 1.0), key(1.0, Vec3::X, 0.0, 1.0)])
+                .is_none()
+        );
     }
 
     #[test]

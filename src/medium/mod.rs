@@ -10,6 +10,7 @@ pub mod blackbody;
 pub mod grid;
 pub mod height_fog;
 pub mod homogeneous;
+pub mod keyframed;
 pub mod majorant_grid;
 pub mod motion;
 pub mod phase;
@@ -18,6 +19,7 @@ pub mod region;
 pub use grid::{GridEmission, GridMedium, GridMediumParams, MajorantMode};
 pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
+pub use keyframed::MovingMedium;
 pub use motion::GridMotion;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
@@ -97,23 +99,35 @@ pub enum Medium {
     HeightFog(HeightFog),
     /// Density from a sparse grid (OpenVDB), tracked over a majorant grid.
     Grid(std::sync::Arc<GridMedium>),
+    /// A medium moved by keyframes (module `keyframed`).
+    Moving(std::sync::Arc<MovingMedium>),
 }
 
 impl Medium {
     /// Coefficients at world point `p` and `time` (frames from the frame time; zero outside the medium).
     ///
-    /// Only grid media with a velocity grid change with time; the majorants
-    /// bound σt over the whole shutter, so they take no time.
+    /// Grid media with a velocity grid and keyframed media change with time.
     #[inline]
     pub fn properties(&self, p: Vec3, time: f32) -> MediumProperties {
         match self {
             Medium::Homogeneous(m) => m.properties(p),
             Medium::HeightFog(m) => m.properties(p),
             Medium::Grid(m) => m.properties_at(p, time),
+            Medium::Moving(m) => m.properties(p, time),
         }
     }
 
-    /// Extinction σa + σs at world point `p`: all that tracking a shadow ray needs.
+    /// Extinction at world point `p` and `time`.
+    #[inline]
+    pub fn sigma_t_at(&self, p: Vec3, time: f32) -> Rgb {
+        match self {
+            Medium::Grid(m) => m.sigma_t_at(p, time),
+            Medium::Moving(m) => m.sigma_t_at(p, time),
+            _ => self.sigma_t(p),
+        }
+    }
+
+    /// Extinction σa + σs at world point `p` (at time 0): all that tracking a shadow ray needs.
     #[inline]
     pub fn sigma_t(&self, p: Vec3) -> Rgb {
         match self {
@@ -126,6 +140,7 @@ impl Medium {
                 p.sigma_a + p.sigma_s
             }
             Medium::Grid(m) => m.sigma_t(p),
+            Medium::Moving(m) => m.sigma_t_at(p, 0.0),
         }
     }
 
@@ -136,6 +151,7 @@ impl Medium {
             Medium::Homogeneous(m) => MajorantIter::Single(m.majorant(ray, t_max)),
             Medium::HeightFog(m) => MajorantIter::Fog(m.majorants(ray, t_max)),
             Medium::Grid(m) => MajorantIter::Grid(m.majorants(ray, t_max)),
+            Medium::Moving(m) => m.majorants(ray, t_max),
         }
     }
 
@@ -146,6 +162,7 @@ impl Medium {
             Medium::Homogeneous(m) => Some(m.optical_depth(ray, t0, t1)),
             Medium::HeightFog(m) => Some(m.optical_depth(ray, t0, t1)),
             Medium::Grid(_) => None,
+            Medium::Moving(m) => m.optical_depth(ray, t0, t1),
         }
     }
 
@@ -155,6 +172,15 @@ impl Medium {
             Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
             Medium::HeightFog(m) => m.is_emissive(),
             Medium::Grid(m) => m.is_emissive(),
+            Medium::Moving(m) => m.inner().is_emissive(),
+        }
+    }
+
+    /// `self` moved by `keys` (`None`: unchanged); `self` must be built in its local frame.
+    pub fn moved_by(self, keys: Option<crate::math::keyframes::Keyframes>) -> Medium {
+        match keys {
+            Some(k) => Medium::Moving(std::sync::Arc::new(MovingMedium::new(self, k))),
+            None => self,
         }
     }
 }

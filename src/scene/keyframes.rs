@@ -126,7 +126,22 @@ pub(crate) fn build_still(
         Placed::Still(m) => Ok(m),
         Placed::Moving(_) => Err(check.error(
             &format!("{field}.transform.keyframes"),
-            format!("{what} cannot be keyframed; give one transform {{ translate, rotate, scale }}"),
+            format!(
+                "{what} cannot be keyframed; give one transform {{ translate, rotate, scale }}"
+            ),
         )),
+    }
+}
+
+/// The keyframes of `field.transform` when they move the object (`None`
+/// for no transform, one placement, or keys that never change).
+pub(crate) fn moving_keys(
+    t: Option<&TransformDesc>,
+    field: &str,
+    check: &Check,
+) -> Result<Option<Keyframes>> {
+    match build_placement(t, field, check)? {
+        Placed::Still(_) => Ok(None),
+        Placed::Moving(k) => Ok(Some(k)),
     }
 }

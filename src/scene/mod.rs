@@ -536,15 +536,17 @@ fn camera_placement(
             ));
         }
     }
-    Ok(match keyframes::build_placement(Some(t), "camera", check)? {
-        keyframes::Placed::Still(m) => (
-            m.transform_point3(position),
-            m.transform_point3(look_at),
-            m.transform_vector3(up),
-            None,
-        ),
-        keyframes::Placed::Moving(keys) => (position, look_at, up, Some(keys)),
-    })
+    Ok(
+        match keyframes::build_placement(Some(t), "camera", check)? {
+            keyframes::Placed::Still(m) => (
+                m.transform_point3(position),
+                m.transform_point3(look_at),
+                m.transform_vector3(up),
+                None,
+            ),
+            keyframes::Placed::Moving(keys) => (position, look_at, up, Some(keys)),
+        },
+    )
 }
 
 fn build_material(desc: Option<&MaterialDesc>, field: &str, check: &Check) -> Result<Material> {
