@@ -8,6 +8,7 @@ use crate::sampling::warp;
 use std::f32::consts::PI;
 use std::sync::Arc;
 
+mod moving;
 mod sphere;
 use sphere::Cone;
 
@@ -96,6 +97,8 @@ pub enum Light {
         cumulative_area: Vec<f32>,
         /// Centre and radius when the shape is one sphere: sampled by its cone of directions.
         sphere: Option<(Vec3, f32)>,
+        /// The shape moves: primitives and sphere are in its local frame (see `moving`).
+        moving: bool,
     },
     /// A distant disk light (the sun); a delta light when `cos_max` is 1.
     Sun {
@@ -152,7 +155,17 @@ impl Light {
             primitives,
             cumulative_area,
             sphere,
+            moving: false,
         }
+    }
+
+    /// An area light for moving `shape` over its local primitives `local` (`Geometry::moving_shape`).
+    pub fn moving_area(shape: u32, radiance: Rgb, two_sided: bool, local: &Geometry) -> Light {
+        let mut light = Light::area(shape, radiance, two_sided, local);
+        if let Light::Area { moving, .. } = &mut light {
+            *moving = true;
+        }
+        light
     }
 
     /// Position of a point or spot light (the lights equiangular sampling aims at).
@@ -168,8 +181,19 @@ impl Light {
         matches!(self, Light::Sun { .. } | Light::Environment(_))
     }
 
-    /// Samples a direction toward the light from receiver point `p`.
+    /// Samples a direction toward the light from receiver point `p` (a moving light at time 0).
     pub fn sample(&self, p: Vec3, u: Vec2, geometry: &Geometry) -> Option<LightSample> {
+        self.sample_at(p, u, geometry, 0.0)
+    }
+
+    /// Samples a direction toward the light from `p`, a moving light placed at `time`.
+    pub fn sample_at(
+        &self,
+        p: Vec3,
+        u: Vec2,
+        geometry: &Geometry,
+        time: f32,
+    ) -> Option<LightSample> {
         match self {
             Light::Point {
                 position,
@@ -206,6 +230,11 @@ impl Light {
                     is_delta: true,
                 })
             }
+            Light::Area {
+                moving: true,
+                shape,
+                ..
+            } => moving::sample(self, geometry.moving_shape(*shape)?, p, u, time),
             Light::Area { .. } => self.sample_area(p, u, geometry),
             Light::Sun {
                 to_sun,
@@ -339,6 +368,27 @@ impl Light {
                 ..
             } if *two_sided || n.dot(wo) > 0.0 => *radiance,
             _ => Rgb::BLACK,
+        }
+    }
+
+    /// [`Light::area_pdf`] of a light that may move, placed at `time`.
+    pub fn area_pdf_at(
+        &self,
+        p: Vec3,
+        hit_p: Vec3,
+        n: Vec3,
+        geometry: &Geometry,
+        time: f32,
+    ) -> f32 {
+        match self {
+            Light::Area {
+                moving: true,
+                shape,
+                ..
+            } => geometry
+                .moving_shape(*shape)
+                .map_or(0.0, |m| moving::area_pdf(self, m, p, hit_p, n, time)),
+            _ => self.area_pdf(p, hit_p, n),
         }
     }
 

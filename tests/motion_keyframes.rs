@@ -122,3 +122,194 @@ fn still_keyframes_and_a_still_camera_are_bit_identical() {
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
     assert_eq!(a, samples(&keyed, 8));
 }
+
+// --- moving shapes -------------------------------------------------------
+
+/// Fraction of the shutter [−0.5, 0.5] during which plane point x is inside the
+/// emitter of half-width 2 centred at 6t, averaged over pixel i of `edge_scene`'s camera.
+fn swept_coverage(i: usize) -> f64 {
+    let s0 = i as f64 - 8.0;
+    average(s0, s0 + 1.0, |s| {
+        ((s + 2.0).min(3.0) - (s - 2.0).max(-3.0)).max(0.0) / 6.0
+    })
+}
+
+fn moving_emitter_scene(shape: &str) -> String {
+    edge_scene("shutter = [-0.5, 0.5]").replace(
+        "[[shape]]\n        type = \"quad\"\n        center = [-25.0, 0.0, -8.0]\n        normal = [0.0, 0.0, 1.0]\n        size = [50.0, 10.0]\n        u_axis = [1.0, 0.0, 0.0]\n        emission = 1.0",
+        shape,
+    )
+}
+
+const SLIDE: &str = "transform = { keyframes = [{ time = -0.5, translate = [-3.0, 0.0, 0.0] }, \
+                     { time = 0.5, translate = [3.0, 0.0, 0.0] }] }";
+
+#[test]
+fn a_moving_emissive_quad_and_mesh_cover_pixels_for_their_share_of_the_shutter() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("quad.obj");
+    // The same 4×10 rectangle at z = −8 as two triangles, facing +z.
+    std::fs::write(
+        &obj,
+        "v -2 -5 -8\nv 2 -5 -8\nv 2 5 -8\nv -2 5 -8\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let quad = format!(
+        "[[shape]]\ntype = \"quad\"\ncenter = [0.0, 0.0, -8.0]\nnormal = [0.0, 0.0, 1.0]\n\
+         size = [4.0, 10.0]\nu_axis = [1.0, 0.0, 0.0]\nemission = 1.0\n{SLIDE}"
+    );
+    let mesh = format!(
+        "[[shape]]\ntype = \"mesh\"\nfile = \"{}\"\nemission = 1.0\n{SLIDE}",
+        obj.display()
+    );
+    let expected: Vec<[f64; 3]> = (0..2)
+        .flat_map(|_| 0..16)
+        .map(|i| [swept_coverage(i); 3])
+        .collect();
+    assert!(
+        (expected[8][0] - 2.0 / 3.0).abs() < 1e-6,
+        "{:?}",
+        expected[8]
+    );
+    for (name, shape) in [("quad", quad), ("mesh", mesh)] {
+        let scene = scene_from_str(&moving_emitter_scene(&shape));
+        let pixels = pixel_estimates(&scene, 1024);
+        assert_pixels(
+            &pixels,
+            &expected,
+            &vec![[0.0; 3]; 32],
+            &format!("moving {name}"),
+        );
+    }
+}
+
+/// Irradiance at `p` (normal `n`) from a polygon of uniform radiance 1 (Lambert's formula).
+fn polygon_irradiance(p: glam::DVec3, n: glam::DVec3, corners: &[glam::DVec3]) -> f64 {
+    let mut sum = 0.0;
+    for k in 0..corners.len() {
+        let a = (corners[k] - p).normalize();
+        let b = (corners[(k + 1) % corners.len()] - p).normalize();
+        let c = a.cross(b);
+        sum += a.dot(b).clamp(-1.0, 1.0).acos() * n.dot(c.normalize());
+    }
+    0.5 * sum.abs()
+}
+
+/// A diffuse floor at y = 0 lit only by `light` (TOML); one bounce.
+fn floor_scene(light: &str) -> String {
+    format!(
+        r#"
+        [camera]
+        position = [0.0, 3.0, 0.0]
+        look_at = [0.0, 0.0, 0.0]
+        up = [0.0, 0.0, -1.0]
+        resolution = [4, 4]
+        shutter = [-0.5, 0.5]
+        [integrator]
+        max_depth = 1
+        [[shape]]
+        type = "quad"
+        center = [0.0, 0.0, 0.0]
+        normal = [0.0, 1.0, 0.0]
+        size = [40.0, 40.0]
+        material = {{ type = "diffuse", albedo = 0.5 }}
+        {light}
+        "#
+    )
+}
+
+/// Radiance leaving floor point (x0, 0, 0) upward, averaged over the shutter.
+fn floor_estimate(scene: &Scene, x0: f32, n: usize, seed: u64) -> Estimate {
+    let mut acc = Accumulator::default();
+    for i in 0..n {
+        let mut sampler = brume::sampling::Sampler::new(seed, 0, 0, i as u64);
+        let time = -0.5 + sampler.next_1d();
+        let ray = brume::math::Ray {
+            time,
+            ..brume::math::Ray::new(brume::math::Vec3::new(x0, 0.5, 0.0), -brume::math::Vec3::Y)
+        };
+        acc.add(brume::integrator::li(scene, ray, &mut sampler));
+    }
+    acc.estimate()
+}
+
+#[test]
+fn a_moving_turning_area_light_lights_the_floor_as_its_shutter_average() {
+    // A 0.6×0.4 two-sided quad of radiance 4 at height 1, sliding x −1 → 1 and turning 40° about z.
+    let light = "[[shape]]\ntype = \"quad\"\ncenter = [0.0, 1.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\n\
+        size = [0.6, 0.4]\nu_axis = [1.0, 0.0, 0.0]\nemission = 4.0\ntwo_sided = true\n\
+        transform = { keyframes = [{ time = -0.5, translate = [-1.0, 0.0, 0.0] }, \
+        { time = 0.5, translate = [1.0, 0.0, 0.0], rotate = [0.0, 0.0, 40.0] }] }";
+    let scene = scene_from_str(&floor_scene(light));
+    let corners_at = |t: f64| {
+        let u = t + 0.5;
+        let turn = glam::DQuat::from_rotation_z((40.0 * u).to_radians());
+        let shift = glam::DVec3::new(-1.0 + 2.0 * u, 0.0, 0.0);
+        [(-0.3, -0.2), (0.3, -0.2), (0.3, 0.2), (-0.3, 0.2)]
+            .map(|(x, z)| shift + turn * glam::DVec3::new(x, 1.0, z))
+    };
+    for x0 in [0.0f32, 0.7, -1.3] {
+        let p = glam::DVec3::new(x0 as f64, 0.0, 0.0);
+        let e = brume::sampling::quadrature::gauss_legendre(
+            |t| polygon_irradiance(p, glam::DVec3::Y, &corners_at(t)),
+            -0.5,
+            0.5,
+            256,
+        );
+        let expected = 0.5 / std::f64::consts::PI * 4.0 * e;
+        let est = floor_estimate(&scene, x0, 40_000, 3);
+        common::assert_estimate(&est, [expected; 3], &format!("floor at x {x0}"));
+    }
+}
+
+#[test]
+fn a_moving_growing_sphere_light_lights_the_floor_as_its_shutter_average() {
+    // Radius 0.2 at x = −1 growing to 0.3 at x = 1, height 1: always above the horizon.
+    let light =
+        "[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 0.2\nemission = 4.0\n\
+        transform = { keyframes = [{ time = -0.5, translate = [-1.0, 0.0, 0.0] }, \
+        { time = 0.5, translate = [1.0, 0.0, 0.0], scale = 1.5 }] }";
+    let scene = scene_from_str(&floor_scene(light));
+    for x0 in [0.0f32, 0.8] {
+        let e = brume::sampling::quadrature::gauss_legendre(
+            |t| {
+                let u = t + 0.5;
+                let s = 1.0 + 0.5 * u;
+                // The centre is scaled about the origin too: (0, s, 0) + (−1 + 2u, 0, 0).
+                let c = glam::DVec3::new(-1.0 + 2.0 * u, s, 0.0);
+                let d = c - glam::DVec3::new(x0 as f64, 0.0, 0.0);
+                let r = 0.2 * s;
+                std::f64::consts::PI * (r * r / d.length_squared()) * (d.y / d.length())
+            },
+            -0.5,
+            0.5,
+            256,
+        );
+        let expected = 0.5 / std::f64::consts::PI * 4.0 * e;
+        let est = floor_estimate(&scene, x0, 40_000, 5);
+        common::assert_estimate(
+            &est,
+            [expected; 3],
+            &format!("sphere light, floor at x {x0}"),
+        );
+    }
+}
+
+#[test]
+fn shapes_with_keys_that_do_not_move_render_as_a_plain_transform() {
+    let light = |t: &str| {
+        format!(
+            "[[shape]]\ntype = \"quad\"\ncenter = [0.0, 1.0, 0.0]\nnormal = [0.0, -1.0, 0.0]\n\
+             size = [0.6, 0.4]\nemission = 4.0\ntransform = {t}"
+        )
+    };
+    let plain = scene_from_str(&floor_scene(&light("{ translate = [0.3, 0.0, 0.0] }")));
+    let keyed = scene_from_str(&floor_scene(&light(
+        "{ keyframes = [{ time = -0.5, translate = [0.3, 0.0, 0.0] }, \
+           { time = 0.5, translate = [0.3, 0.0, 0.0] }] }",
+    )));
+    assert!(keyed.geometry.moving_shape(1).is_none());
+    let a = samples(&plain, 16);
+    assert!(a.iter().any(|s| s != &[0, 0, 0]));
+    assert_eq!(a, samples(&keyed, 16));
+}

@@ -338,14 +338,18 @@ pub fn build_frame(
     };
 
     let mut items = Vec::new();
+    let mut moving = Vec::new();
     let mut shape_materials = Vec::with_capacity(desc.shapes.len());
     for (i, shape) in desc.shapes.iter().enumerate() {
         let field = format!("shape[{i}]");
         let prims = shapes::build_shape(shape, &field, &check, base)?;
-        items.extend(prims.into_iter().map(|p| (p, i as u32)));
+        match moving_shape_keys(shape, &field, &check)? {
+            Some(keys) => moving.push(crate::geometry::MovingShape::new(i as u32, prims, keys)),
+            None => items.extend(prims.into_iter().map(|p| (p, i as u32))),
+        }
         shape_materials.push(build_material(shape.material.as_ref(), &field, &check)?);
     }
-    let geometry = Geometry::new(items);
+    let geometry = Geometry::new(items).with_moving(moving);
 
     let mut lights = Vec::new();
     let mut shape_lights = vec![None; desc.shapes.len()];
@@ -354,7 +358,10 @@ pub fn build_frame(
             let radiance = check.color(&format!("shape[{i}].emission"), emission)?;
             if !radiance.is_black() {
                 shape_lights[i] = Some(lights.len() as u32);
-                lights.push(Light::area(i as u32, radiance, shape.two_sided, &geometry));
+                lights.push(match geometry.moving_shape(i as u32) {
+                    Some(m) => Light::moving_area(i as u32, radiance, shape.two_sided, m.local()),
+                    None => Light::area(i as u32, radiance, shape.two_sided, &geometry),
+                });
             }
         }
     }
@@ -400,6 +407,23 @@ pub fn build_frame(
         aovs: build_aovs(&desc.film.aovs, &check)?,
     };
     Ok((scene, check.take_warnings()))
+}
+
+/// The keyframes of a shape that moves; an emissive one must scale uniformly (`light::moving`).
+fn moving_shape_keys(
+    shape: &description::ShapeDesc,
+    field: &str,
+    check: &Check,
+) -> Result<Option<crate::math::keyframes::Keyframes>> {
+    let keys = keyframes::moving_keys(shape.transform.as_ref(), field, check)?;
+    let emits = shape.emission.is_some_and(|e| e.0 != [0.0; 3]);
+    if emits && keys.as_ref().is_some_and(|k| !k.is_uniform_scale()) {
+        return Err(check.error(
+            &format!("{field}.transform.keyframes"),
+            "an emissive shape that moves must scale alike on all three axes in every key",
+        ));
+    }
+    Ok(keys)
 }
 
 /// `[film] aovs`: known names, each once.

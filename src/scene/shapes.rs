@@ -62,7 +62,11 @@ pub(crate) fn build_shape(
             "media bounded by shapes are not supported yet; use a [[medium]] with box or sphere `bounds`",
         ));
     }
-    let m = build_transform(shape.transform.as_ref(), field, check)?;
+    // A moving shape is built in its local frame (keyframes place it per ray time).
+    let m = match super::keyframes::build_placement(shape.transform.as_ref(), field, check)? {
+        super::keyframes::Placed::Still(m) => m,
+        super::keyframes::Placed::Moving(_) => Affine3A::IDENTITY,
+    };
     let center = check.vec3(&format!("{field}.center"), shape.center.unwrap_or([0.0; 3]))?;
     let size = |n: usize| -> Result<Vec<f32>> {
         let s = shape
