@@ -313,3 +313,63 @@ fn shapes_with_keys_that_do_not_move_render_as_a_plain_transform() {
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
     assert_eq!(a, samples(&keyed, 16));
 }
+
+#[test]
+fn a_moving_sphere_light_samples_points_on_the_sphere_at_the_time_asked() {
+    let light =
+        "[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 1.0, 0.0]\nradius = 0.2\nemission = 4.0\n\
+        transform = { keyframes = [{ time = -0.5, translate = [-1.0, 0.0, 0.0], scale = 0.5 }, \
+        { time = 0.5, translate = [1.0, 0.0, 0.0], scale = 1.5 }] }";
+    let scene = scene_from_str(&floor_scene(light));
+    let p = brume::math::Vec3::new(0.3, 0.0, 0.1);
+    let mut s = brume::sampling::Sampler::from_seed(7);
+    for i in 0..200 {
+        let t = -0.5 + i as f32 / 200.0;
+        let ls = scene.lights[0]
+            .sample_at(p, s.next_2d(), &scene.geometry, t)
+            .expect("a visible sphere");
+        let u = t + 0.5;
+        let scale = 0.5 + u;
+        let centre = brume::math::Vec3::new(-1.0 + 2.0 * u, scale, 0.0);
+        let on = p + ls.wi * ls.distance;
+        let off = ((on - centre).length() - 0.2 * scale).abs();
+        assert!(off < 1e-4, "time {t}: {off} off the sphere");
+    }
+}
+
+#[test]
+fn aovs_see_the_moving_camera_at_the_beauty_time() {
+    let scene = scene_from_str(&edge_scene(
+        "shutter = [-0.5, 0.5]\n transform = { keyframes = [\
+         { time = -0.5, translate = [-2.0, 0.0, 0.0] }, { time = 0.5, translate = [2.0, 0.0, 0.0] }] }",
+    ));
+    let spp = 1024;
+    let channels =
+        brume::render::render_aovs(&scene, &[brume::integrator::aov::Aov::Alpha], spp, Some(1));
+    let alpha = &channels[0].1;
+    let n = spp as f64;
+    let pixels: Vec<Estimate> = alpha
+        .iter()
+        .map(|&a| {
+            let a = a as f64;
+            Estimate {
+                mean: [a; 3],
+                std_error: [(a * (1.0 - a) / (n - 1.0)).sqrt(); 3],
+                n: spp as usize,
+            }
+        })
+        .collect();
+    let expected: Vec<[f64; 3]> = (0..2)
+        .flat_map(|_| 0..16)
+        .map(|i| {
+            let s0 = i as f64 - 8.0;
+            [average(s0, s0 + 1.0, |s| ((2.0 - s) / 4.0).clamp(0.0, 1.0)); 3]
+        })
+        .collect();
+    assert_pixels(
+        &pixels,
+        &expected,
+        &vec![[0.0; 3]; 32],
+        "alpha of a moving camera",
+    );
+}
