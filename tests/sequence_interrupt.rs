@@ -67,12 +67,21 @@ fn sigint_mid_sequence_keeps_finished_frames_and_skip_existing_resumes() {
     // Stop soon after the first frame is on disk.
     let start = Instant::now();
     while !exr(dir.path(), 1).exists() {
-        assert!(start.elapsed() < Duration::from_secs(60), "frame 1 never appeared");
-        assert!(child.try_wait().unwrap().is_none(), "brume ended before frame 1");
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "frame 1 never appeared"
+        );
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "brume ended before frame 1"
+        );
         std::thread::sleep(Duration::from_millis(5));
     }
     std::thread::sleep(Duration::from_millis(200));
-    assert!(child.try_wait().unwrap().is_none(), "the sequence must still be running");
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the sequence must still be running"
+    );
     let status = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
@@ -81,15 +90,23 @@ fn sigint_mid_sequence_keeps_finished_frames_and_skip_existing_resumes() {
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert_eq!(out.status.code(), Some(130), "{stderr}");
-    assert!(stderr.contains("resume with --skip-existing") || stderr.contains("interrupted"), "{stderr}");
+    assert!(
+        stderr.contains("resume with --skip-existing") || stderr.contains("interrupted"),
+        "{stderr}"
+    );
 
     // Frames 1..=k complete, frame k+1 partial (incomplete) or absent, none after it.
-    let complete: Vec<bool> = (1..=FRAMES).map(|f| exr_is_complete(&exr(dir.path(), f))).collect();
+    let complete: Vec<bool> = (1..=FRAMES)
+        .map(|f| exr_is_complete(&exr(dir.path(), f)))
+        .collect();
     let k = complete.iter().take_while(|&&c| c).count();
     assert!(k >= 1 && k < FRAMES, "{k} complete frames: {stderr}");
     assert!(complete[k..].iter().all(|&c| !c), "{complete:?}");
     if exr(dir.path(), k + 1).exists() {
-        assert!(stderr.contains("interrupted in"), "a partial frame is reported: {stderr}");
+        assert!(
+            stderr.contains("interrupted in"),
+            "a partial frame is reported: {stderr}"
+        );
     }
     for f in k + 2..=FRAMES {
         assert!(!exr(dir.path(), f).exists(), "frame {f} after the stop");
@@ -99,23 +116,40 @@ fn sigint_mid_sequence_keeps_finished_frames_and_skip_existing_resumes() {
         listed.iter().all(|n| !n.contains(".tmp")),
         "temporary files left: {listed:?}"
     );
-    let kept: Vec<Vec<u8>> = (1..=k).map(|f| std::fs::read(exr(dir.path(), f)).unwrap()).collect();
+    let kept: Vec<Vec<u8>> = (1..=k)
+        .map(|f| std::fs::read(exr(dir.path(), f)).unwrap())
+        .collect();
 
     // Resume: complete frames are skipped (and untouched), the rest rendered.
     let out = Command::cargo_bin("brume")
         .unwrap()
         .current_dir(dir.path())
-        .args(["render", "seq.toml", "--frames", &frames, "--skip-existing", "--threads", "1"])
+        .args([
+            "render",
+            "seq.toml",
+            "--frames",
+            &frames,
+            "--skip-existing",
+            "--threads",
+            "1",
+        ])
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(out.status.success(), "{stderr}");
     assert_eq!(stderr.matches("skipped").count(), k, "{stderr}");
     for f in 1..=FRAMES {
-        assert!(exr_is_complete(&exr(dir.path(), f)), "frame {f} after resuming");
+        assert!(
+            exr_is_complete(&exr(dir.path(), f)),
+            "frame {f} after resuming"
+        );
     }
     for (f, bytes) in (1..=k).zip(&kept) {
-        assert_eq!(&std::fs::read(exr(dir.path(), f)).unwrap(), bytes, "frame {f} rewritten");
+        assert_eq!(
+            &std::fs::read(exr(dir.path(), f)).unwrap(),
+            bytes,
+            "frame {f} rewritten"
+        );
     }
     assert!(names(dir.path()).iter().all(|n| !n.contains(".tmp")));
 }
