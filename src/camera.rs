@@ -254,7 +254,7 @@ mod tests {
     fn zero_aperture_is_the_pinhole_bit_for_bit() {
         let pinhole =
             Camera::new(Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y, 35.0, 64, 48).unwrap();
-        let lens = pinhole.with_lens(0.0, 2.5);
+        let lens = pinhole.clone().with_lens(0.0, 2.5);
         let (mut a, mut b, mut c) = (
             Sampler::from_seed(3),
             Sampler::from_seed(3),

@@ -126,7 +126,11 @@ pub struct Keyframes {
 impl Keyframes {
     /// Keyframes from `keys` in strictly increasing time; `None` with fewer than two keys or out of order.
     pub fn new(keys: &[Key]) -> Option<Keyframes> {
-        if keys.len() < 2 || keys.windows(2).any(|w| !(w[0].time < w[1].time)) {
+        if keys.len() < 2
+            || keys
+                .windows(2)
+                .any(|w| w[0].time.partial_cmp(&w[1].time) != Some(std::cmp::Ordering::Less))
+        {
             return None;
         }
         let spans = keys

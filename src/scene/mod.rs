@@ -532,6 +532,14 @@ fn check_camera_range(position: crate::math::Vec3, check: &Check) -> Result<()> 
     ))
 }
 
+/// Position, look_at and up of the camera at rest, and the keyframes that move it.
+type CameraRest = (
+    crate::math::Vec3,
+    crate::math::Vec3,
+    crate::math::Vec3,
+    Option<crate::math::keyframes::Keyframes>,
+);
+
 /// `camera.transform`: a still placement moves position, look_at and up
 /// once; keyframes move the camera rigidly at each sample's time (no scale).
 fn camera_placement(
@@ -540,12 +548,7 @@ fn camera_placement(
     look_at: crate::math::Vec3,
     up: crate::math::Vec3,
     check: &Check,
-) -> Result<(
-    crate::math::Vec3,
-    crate::math::Vec3,
-    crate::math::Vec3,
-    Option<crate::math::keyframes::Keyframes>,
-)> {
+) -> Result<CameraRest> {
     let Some(t) = desc.camera.transform.as_ref() else {
         return Ok((position, look_at, up, None));
     };
