@@ -100,7 +100,7 @@ fn sigint_mid_sequence_keeps_finished_frames_and_skip_existing_resumes() {
         .map(|f| exr_is_complete(&exr(dir.path(), f)))
         .collect();
     let k = complete.iter().take_while(|&&c| c).count();
-    assert!(k >= 1 && k < FRAMES, "{k} complete frames: {stderr}");
+    assert!((1..FRAMES).contains(&k), "{k} complete frames: {stderr}");
     assert!(complete[k..].iter().all(|&c| !c), "{complete:?}");
     if exr(dir.path(), k + 1).exists() {
         assert!(
