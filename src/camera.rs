@@ -1,7 +1,9 @@
 //! The perspective camera (pinhole or thin lens) and primary ray generation.
 
+use crate::math::keyframes::Keyframes;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::{warp, Sampler};
+use std::sync::Arc;
 
 /// Which image axis the field of view spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -13,13 +15,26 @@ pub enum FovAxis {
     Horizontal,
 }
 
+/// Where a camera is and how it is turned, at one time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    /// Eye position.
+    pub position: Vec3,
+    /// Unit viewing direction.
+    pub forward: Vec3,
+    /// Unit image right.
+    pub right: Vec3,
+    /// Unit image up.
+    pub up: Vec3,
+}
+
 /// A perspective camera: a pinhole, or a thin lens focused on a plane.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Camera {
-    position: Vec3,
-    forward: Vec3,
-    right: Vec3,
-    up: Vec3,
+    /// The camera's view at rest (before `motion`).
+    view: View,
+    /// Rigid keyframed motion applied to the rest view at a sample's time.
+    motion: Option<Arc<Keyframes>>,
     /// tan of half the vertical field of view.
     tan_half_fov: f32,
     /// Lens radius (0 = pinhole).
@@ -48,10 +63,13 @@ impl Camera {
             return None;
         }
         Some(Camera {
-            position,
-            forward,
-            right,
-            up: right.cross(forward),
+            view: View {
+                position,
+                forward,
+                right,
+                up: right.cross(forward),
+            },
+            motion: None,
             tan_half_fov: (fov_degrees.to_radians() * 0.5).tan(),
             aperture_radius: 0.0,
             focus_distance: 1.0,
@@ -60,9 +78,36 @@ impl Camera {
         })
     }
 
-    /// Unit viewing direction (the camera's optical axis).
+    /// Unit viewing direction (the camera's optical axis) at rest.
     pub fn forward(&self) -> Vec3 {
-        self.forward
+        self.view.forward
+    }
+
+    /// The same camera moved rigidly by `motion` (keys must not scale).
+    pub fn with_motion(mut self, motion: Keyframes) -> Camera {
+        self.motion = Some(Arc::new(motion));
+        self
+    }
+
+    /// True when the camera moves over time.
+    pub fn is_moving(&self) -> bool {
+        self.motion.is_some()
+    }
+
+    /// The view at `time` (frames from the frame's time): the rest view moved by the keyframes.
+    #[inline]
+    pub fn view_at(&self, time: f32) -> View {
+        let Some(motion) = &self.motion else {
+            return self.view;
+        };
+        let m = motion.at(time);
+        let v = &self.view;
+        View {
+            position: m.point_to_world(v.position),
+            forward: m.rotation * v.forward,
+            right: m.rotation * v.right,
+            up: m.rotation * v.up,
+        }
     }
 
     /// The same camera with its field of view measured along `axis` instead of the height.
@@ -98,13 +143,30 @@ impl Camera {
 
     /// The pinhole ray through pixel `(x, y)` at sub-pixel offset `u` ∈ [0,1)² (row 0 at the top).
     pub fn generate_ray(&self, x: u32, y: u32, u: Vec2) -> Ray {
+        self.pinhole_ray(&self.view, x, y, u)
+    }
+
+    /// [`Camera::generate_ray`] from the view at `time`; the ray carries `time`.
+    pub fn generate_ray_at(&self, x: u32, y: u32, u: Vec2, time: f32) -> Ray {
+        let mut ray = self.pinhole_ray(&self.view_at(time), x, y, u);
+        ray.time = time;
+        ray
+    }
+
+    fn pinhole_ray(&self, view: &View, x: u32, y: u32, u: Vec2) -> Ray {
+        let View {
+            position,
+            forward,
+            right,
+            up,
+        } = *view;
         let ndc_x = ((x as f32 + u.x) / self.width as f32) * 2.0 - 1.0;
         let ndc_y = 1.0 - ((y as f32 + u.y) / self.height as f32) * 2.0;
         let aspect = self.width as f32 / self.height as f32;
-        let dir = self.forward
-            + self.right * (ndc_x * self.tan_half_fov * aspect)
-            + self.up * (ndc_y * self.tan_half_fov);
-        Ray::new(self.position, dir.normalize())
+        let dir = forward
+            + right * (ndc_x * self.tan_half_fov * aspect)
+            + up * (ndc_y * self.tan_half_fov);
+        Ray::new(position, dir.normalize())
     }
 
     /// The ray through pixel `(x, y)` at offset `u` leaving the lens at `u_lens` ∈ [0,1)².
@@ -112,13 +174,17 @@ impl Camera {
     /// Every ray of one film point meets the others on the plane at
     /// `focus_distance`, so points there are sharp.
     pub fn generate_lens_ray(&self, x: u32, y: u32, u: Vec2, u_lens: Vec2) -> Ray {
-        let pinhole = self.generate_ray(x, y, u);
+        self.lens_ray(&self.view, x, y, u, u_lens)
+    }
+
+    fn lens_ray(&self, view: &View, x: u32, y: u32, u: Vec2, u_lens: Vec2) -> Ray {
+        let pinhole = self.pinhole_ray(view, x, y, u);
         if !self.has_lens() {
             return pinhole;
         }
-        let focus = pinhole.at(self.focus_distance / pinhole.direction.dot(self.forward));
+        let focus = pinhole.at(self.focus_distance / pinhole.direction.dot(view.forward));
         let d = warp::square_to_concentric_disk(u_lens) * self.aperture_radius;
-        let origin = self.position + self.right * d.x + self.up * d.y;
+        let origin = view.position + view.right * d.x + view.up * d.y;
         Ray::new(origin, (focus - origin).normalize())
     }
 
@@ -127,11 +193,28 @@ impl Camera {
     /// The lens sample is drawn only with an aperture, so a pinhole camera
     /// consumes the same random numbers (and makes the same image) as before lenses existed.
     pub fn sample_ray(&self, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
+        self.sample_ray_from(&self.view, x, y, sampler)
+    }
+
+    /// [`Camera::sample_ray`] from the view at `time` (the same random numbers); the ray carries `time`.
+    ///
+    /// A still camera's ray is [`Camera::sample_ray`]'s bit for bit.
+    pub fn sample_ray_at(&self, x: u32, y: u32, time: f32, sampler: &mut Sampler) -> Ray {
+        let mut ray = if self.motion.is_some() {
+            self.sample_ray_from(&self.view_at(time), x, y, sampler)
+        } else {
+            self.sample_ray_from(&self.view, x, y, sampler)
+        };
+        ray.time = time;
+        ray
+    }
+
+    fn sample_ray_from(&self, view: &View, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
         let u = sampler.next_2d();
         if self.has_lens() {
-            self.generate_lens_ray(x, y, u, sampler.next_2d())
+            self.lens_ray(view, x, y, u, sampler.next_2d())
         } else {
-            self.generate_ray(x, y, u)
+            self.pinhole_ray(view, x, y, u)
         }
     }
 }
@@ -171,7 +254,7 @@ mod tests {
     fn zero_aperture_is_the_pinhole_bit_for_bit() {
         let pinhole =
             Camera::new(Vec3::new(1.0, 2.0, 3.0), Vec3::ZERO, Vec3::Y, 35.0, 64, 48).unwrap();
-        let lens = pinhole.with_lens(0.0, 2.5);
+        let lens = pinhole.clone().with_lens(0.0, 2.5);
         let (mut a, mut b, mut c) = (
             Sampler::from_seed(3),
             Sampler::from_seed(3),

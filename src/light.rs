@@ -9,6 +9,7 @@ use crate::texture::Texture;
 use std::f32::consts::PI;
 use std::sync::Arc;
 
+mod moving;
 mod sphere;
 use sphere::Cone;
 
@@ -102,6 +103,8 @@ pub enum Light {
         cumulative_area: Vec<f32>,
         /// Centre and radius when the shape is one sphere: sampled by its cone of directions.
         sphere: Option<(Vec3, f32)>,
+        /// The shape moves: primitives and sphere are in its local frame (see `moving`).
+        moving: bool,
     },
     /// A distant disk light (the sun); a delta light when `cos_max` is 1.
     Sun {
@@ -158,7 +161,17 @@ impl Light {
             primitives,
             cumulative_area,
             sphere,
+            moving: false,
         }
+    }
+
+    /// An area light for moving `shape` over its local primitives `local` (`Geometry::moving_shape`).
+    pub fn moving_area(shape: u32, radiance: Texture, two_sided: bool, local: &Geometry) -> Light {
+        let mut light = Light::area(shape, radiance, two_sided, local);
+        if let Light::Area { moving, .. } = &mut light {
+            *moving = true;
+        }
+        light
     }
 
     /// Position of a point or spot light (the lights equiangular sampling aims at).
@@ -174,14 +187,14 @@ impl Light {
         matches!(self, Light::Sun { .. } | Light::Environment(_))
     }
 
-    /// Samples a direction toward the light from receiver point `p`.
+    /// Samples a direction toward the light from receiver point `p` (a moving light at time 0).
     pub fn sample(&self, p: Vec3, u: Vec2, geometry: &Geometry) -> Option<LightSample> {
-        self.sample_facing(p, None, u, geometry)
+        self.sample_facing(p, None, u, geometry, 0.0)
     }
 
     /// Samples a direction toward the light from `p`, a surface point with unit
     /// shading normal `normal` (on the side it reflects into) or, with `None`,
-    /// a point in a medium.
+    /// a point in a medium; a moving light is placed at `time`.
     ///
     /// Constant and sky environments seen from a surface are sampled
     /// cosine-weighted about the normal: uniform directions over the sphere put
@@ -194,6 +207,7 @@ impl Light {
         normal: Option<Vec3>,
         u: Vec2,
         geometry: &Geometry,
+        time: f32,
     ) -> Option<LightSample> {
         match self {
             Light::Point {
@@ -231,6 +245,11 @@ impl Light {
                     is_delta: true,
                 })
             }
+            Light::Area {
+                moving: true,
+                shape,
+                ..
+            } => moving::sample(self, geometry.moving_shape(*shape)?, p, u, time),
             Light::Area { .. } => self.sample_area(p, u, geometry),
             Light::Sun {
                 to_sun,
@@ -400,6 +419,27 @@ impl Light {
                 None => radiance.eval(uv()),
             },
             _ => Rgb::BLACK,
+        }
+    }
+
+    /// [`Light::area_pdf`] of a light that may move, placed at `time`.
+    pub fn area_pdf_at(
+        &self,
+        p: Vec3,
+        hit_p: Vec3,
+        n: Vec3,
+        geometry: &Geometry,
+        time: f32,
+    ) -> f32 {
+        match self {
+            Light::Area {
+                moving: true,
+                shape,
+                ..
+            } => geometry
+                .moving_shape(*shape)
+                .map_or(0.0, |m| moving::area_pdf(self, m, p, hit_p, n, time)),
+            _ => self.area_pdf(p, hit_p, n),
         }
     }
 

@@ -177,7 +177,7 @@ fn bad_frame_arguments_are_refused() {
 }
 
 #[test]
-fn keyframed_transforms_are_refused_clearly() {
+fn keyframes_in_a_form_brume_does_not_read_are_refused_clearly() {
     let text = r#"
         [camera]
         position = [0.0, 0.0, 3.0]
@@ -190,16 +190,20 @@ fn keyframed_transforms_are_refused_clearly() {
     let file = Path::new("keys.toml");
     let err = brume::scene::parse(text, file).unwrap_err().to_string();
     assert!(
-        err.contains("shape[0].transform") && err.contains("not supported"),
+        err.contains("shape[0].transform") && err.contains("transform = { keyframes = ["),
         "{err}"
     );
     let text = text.replace(
         "transform = [{ time = 0.0, translate = [0.0, 0.0, 0.0] }, { time = 1.0, translate = [1.0, 0.0, 0.0] }]",
         "",
-    ) + "\n[[medium]]\ntype = \"homogeneous\"\nsigma_t = 1.0\ntransform = { keyframes = [] }\n";
-    let err = brume::scene::parse(&text, file).unwrap_err().to_string();
+    ) + "\n[[medium]]\ntype = \"homogeneous\"\nsigma_t = 1.0\nbounds = { type = \"sphere\", radius = 1.0 }\ntransform = { keyframes = [] }\n";
+    let desc = brume::scene::parse(&text, file).expect("the keyframes form parses");
+    let err = brume::scene::build(&desc, file, Path::new("."))
+        .err()
+        .expect("no keys is an error")
+        .to_string();
     assert!(
-        err.contains("medium[0].transform") && err.contains("not supported"),
+        err.contains("medium[0].transform.keyframes") && err.contains("at least one key"),
         "{err}"
     );
 }

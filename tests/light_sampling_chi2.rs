@@ -47,7 +47,11 @@ fn run(light: &Light, normal: Option<Vec3>, seed: u64) -> Chi2Result {
     let geometry = Geometry::new(Vec::new());
     let p = Vec3::new(0.3, 1.0, -2.0);
     SphereChi2::new(SAMPLES, seed).run(
-        |u| light.sample_facing(p, normal, u, &geometry).map(|s| s.wi),
+        |u| {
+            light
+                .sample_facing(p, normal, u, &geometry, 0.0)
+                .map(|s| s.wi)
+        },
         |d| light.escaped_pdf_facing(d, normal),
     )
 }
@@ -84,7 +88,7 @@ fn a_uniform_density_is_rejected_for_surface_samples() {
     let hemisphere = SphereChi2::new(SAMPLES, 30).run(
         |u| {
             light
-                .sample_facing(Vec3::ZERO, Some(n), u, &geometry)
+                .sample_facing(Vec3::ZERO, Some(n), u, &geometry, 0.0)
                 .map(|s| s.wi)
         },
         |d| {
@@ -109,7 +113,7 @@ fn surface_samples_weigh_to_the_cosine_irradiance() {
     let mut s = brume::sampling::Sampler::from_seed(40);
     for _ in 0..1000 {
         let ls = light
-            .sample_facing(Vec3::ZERO, Some(n), s.next_2d(), &geometry)
+            .sample_facing(Vec3::ZERO, Some(n), s.next_2d(), &geometry, 0.0)
             .expect("a direction above the surface");
         let e = ls.radiance.g * n.dot(ls.wi) / ls.pdf;
         assert!(

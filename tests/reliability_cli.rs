@@ -613,6 +613,10 @@ fn message_cases() -> Vec<Case> {
         case("narrow spot with the default falloff", spot("cone_angle = 3.0"), &render(&["--out", "o.exr", "--png", "o.png"]), 0, ""),
         case("falloff wider than the cone", spot("cone_angle = 3.0\ncone_falloff = 5.0"), &render(&[]), 2, "light[1].cone_falloff"),
         case("up parallel to the view", scene(QUAD).replace("[integrator]", "up = [0.0, 0.0, 1.0]\nlook_at = [0.0, 1.0, 0.0]\n[integrator]").replace("look_at = [0.0, 0.5, 0.0]\n", ""), &render(&[]), 2, "camera.up"),
+        case("camera 1e30 from the origin", scene(QUAD).replace("position = [0.0, 1.0, 4.0]", "position = [1e30, 1e30, 1e30]"), &render(&[]), 2, "camera.position: is 1.732e30 from the origin: too far for f32 ray arithmetic"),
+        case("keys out of order", quad_with("transform = { keyframes = [{ time = 0.5 }, { time = 0.1, translate = [1.0, 0.0, 0.0] }] }"), &render(&[]), 2, "shape[0].transform.keyframes[1].time: keys must be in increasing time: 0.1 follows 0.5"),
+        case("keys beside a translate", quad_with("transform = { translate = [1.0, 0.0, 0.0], keyframes = [{ time = 0.0 }] }"), &render(&[]), 2, "shape[0].transform: give either keyframes or translate/rotate/scale"),
+        case("a scaling camera", scene(QUAD).replace("[integrator]", "transform = { keyframes = [{ time = 0.0 }, { time = 0.5, scale = 2.0 }] }\n[integrator]"), &render(&[]), 2, "camera.transform: a camera moves rigidly"),
         case("emission on an albedo-1 medium", scene(&vdb_medium("one.vdb", "emission = 2.0")), &render(&["--out", "o.exr", "--png", "o.png"]), 0, "medium[0].emission: does nothing"),
     ]
 }

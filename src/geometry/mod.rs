@@ -1,8 +1,10 @@
 //! Shapes, intersection records and the BVH (obvhs) over all primitives.
 
 pub mod closed;
+pub mod moving;
 pub mod shapes;
 
+pub use moving::MovingShape;
 pub use shapes::{sphere_uv, AreaSample, Primitive, PrimitiveHit};
 
 use crate::math::{Bounds3, Ray, Vec2, Vec3};
@@ -44,6 +46,8 @@ pub struct Geometry {
     /// Levels of the BVH, which bounds the traversal stack.
     depth: usize,
     bounds: Bounds3,
+    /// Shapes moved by keyframes (none in a still scene).
+    moving: Option<moving::MovingShapes>,
 }
 
 /// Corner texture coordinates of a triangle without any: its barycentric parameters.
@@ -77,6 +81,7 @@ impl Geometry {
                 bvh: None,
                 depth: 0,
                 bounds,
+                moving: None,
             };
         }
         let mut build_time = std::time::Duration::ZERO;
@@ -100,7 +105,23 @@ impl Geometry {
             depth: tree_depth(&bvh),
             bvh: Some(bvh),
             bounds,
+            moving: None,
         }
+    }
+
+    /// The same geometry with `shapes` moved by keyframes beside the still primitives.
+    pub fn with_moving(mut self, shapes: Vec<MovingShape>) -> Geometry {
+        self.moving = moving::MovingShapes::new(shapes);
+        if let Some(m) = &self.moving {
+            self.bounds = self.bounds.union(&m.bounds());
+        }
+        self
+    }
+
+    /// The moving shape with scene index `shape`, if that shape moves.
+    #[inline]
+    pub fn moving_shape(&self, shape: u32) -> Option<&MovingShape> {
+        self.moving.as_ref()?.get(shape)
     }
 
     /// Primitives in traversal order.
@@ -131,13 +152,23 @@ impl Geometry {
         }
     }
 
-    /// Bounds of all primitives.
+    /// Bounds of all primitives (moving ones over all times).
     pub fn bounds(&self) -> Bounds3 {
         self.bounds
     }
 
-    /// Closest hit with `t < t_max`.
+    /// Closest hit with `t < t_max` (moving shapes at the ray's time).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
+        let still = self.intersect_still(ray, t_max);
+        let Some(moving) = &self.moving else {
+            return still;
+        };
+        moving
+            .intersect(ray, still.map_or(t_max, |h| h.t))
+            .or(still)
+    }
+
+    fn intersect_still(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
         let bvh = self.bvh.as_ref()?;
         let bvh_ray = BvhRay::new(ray.origin.into(), ray.direction.into(), T_MIN, t_max);
         let mut hit = RayHit::none();
@@ -181,8 +212,13 @@ impl Geometry {
         });
     }
 
-    /// True when anything blocks the ray before `t_max`.
+    /// True when anything blocks the ray before `t_max` (moving shapes at the ray's time).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.occluded_still(ray, t_max)
+            || self.moving.as_ref().is_some_and(|m| m.occluded(ray, t_max))
+    }
+
+    fn occluded_still(&self, ray: &Ray, t_max: f32) -> bool {
         let Some(bvh) = self.bvh.as_ref() else {
             return false;
         };

@@ -104,7 +104,12 @@ pub fn aov_sample(scene: &Scene, x: u32, y: u32, s: u32) -> AovSample {
     let seed = scene.settings.seed;
     // The beauty's first two dimensions choose its camera ray (see render::pixel_sample).
     let mut beauty = Sampler::new(seed, x, y, s as u64);
-    let ray = scene.camera.generate_ray(x, y, beauty.next_2d());
+    // The beauty's time too (a reserved stream position): AOVs see the scene as the beauty does.
+    let time = match scene.settings.shutter {
+        Some(_) => scene.settings.sample_time(beauty.time_1d()),
+        None => 0.0,
+    };
+    let ray = scene.camera.generate_ray_at(x, y, beauty.next_2d(), time);
     let mut sampler = Sampler::new(seed ^ AOV_STREAM_KEY, x, y, s as u64);
     first_vertex(scene, &ray, &mut sampler)
 }
@@ -129,7 +134,7 @@ fn first_vertex(scene: &Scene, ray: &Ray, sampler: &mut Sampler) -> AovSample {
     } else {
         1.0 - transmittance.average()
     };
-    let forward = scene.camera.forward();
+    let forward = scene.camera.view_at(ray.time).forward;
     let mut out = AovSample {
         alpha,
         depth: None,

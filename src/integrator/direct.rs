@@ -113,7 +113,7 @@ pub(super) fn direct_light(
     let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
     let light = &scene.lights[index];
     let p = vertex.position();
-    let Some(ls) = light.sample_facing(p, vertex.normal(), u, &scene.geometry) else {
+    let Some(ls) = light.sample_facing(p, vertex.normal(), u, &scene.geometry, time) else {
         return Rgb::BLACK;
     };
     let (f, scatter_pdf) = vertex.scattering(ls.wi);

@@ -296,8 +296,13 @@ fn add_surface_emission(scene: &Scene, path: &mut PathState, hit: &SurfaceHit) {
     let weight = if path.prev_delta {
         1.0
     } else {
-        let light_pdf = light.area_pdf(path.prev_point, hit.p, hit.geometric_normal)
-            * scene.light_pick_probability();
+        let light_pdf = light.area_pdf_at(
+            path.prev_point,
+            hit.p,
+            hit.geometric_normal,
+            &scene.geometry,
+            path.ray.time,
+        ) * scene.light_pick_probability();
         power_heuristic(path.prev_pdf, light_pdf)
     };
     path.radiance += path.throughput * le * weight;

@@ -11,6 +11,7 @@ pub mod grid;
 pub mod height_fog;
 pub mod homogeneous;
 pub mod interior;
+pub mod keyframed;
 pub mod majorant_grid;
 pub mod motion;
 pub mod phase;
@@ -21,6 +22,7 @@ pub use grid::{ExactVoxels, GridEmission, GridMedium, GridMediumParams, Majorant
 pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
 pub use interior::{InteriorContent, InteriorMedium, ShapeMask};
+pub use keyframed::MovingMedium;
 pub use motion::GridMotion;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
@@ -105,13 +107,14 @@ pub enum Medium {
     Grid(std::sync::Arc<GridMedium>),
     /// A homogeneous or grid medium inside a closed shape (see [`interior`]).
     Interior(std::sync::Arc<InteriorMedium>),
+    /// A medium moved by keyframes (module `keyframed`).
+    Moving(std::sync::Arc<MovingMedium>),
 }
 
 impl Medium {
     /// Coefficients at world point `p` and `time` (frames from the frame time; zero outside the medium).
     ///
-    /// Only grid media with a velocity grid change with time; the majorants
-    /// bound σt over the whole shutter, so they take no time.
+    /// Grid media with a velocity grid and keyframed media change with time.
     #[inline]
     pub fn properties(&self, p: Vec3, time: f32) -> MediumProperties {
         match self {
@@ -119,10 +122,21 @@ impl Medium {
             Medium::HeightFog(m) => m.properties(p),
             Medium::Grid(m) => m.properties_at(p, time),
             Medium::Interior(m) => m.properties(p, time),
+            Medium::Moving(m) => m.properties(p, time),
         }
     }
 
-    /// Extinction σa + σs at world point `p`: all that tracking a shadow ray needs.
+    /// Extinction at world point `p` and `time`.
+    #[inline]
+    pub fn sigma_t_at(&self, p: Vec3, time: f32) -> Rgb {
+        match self {
+            Medium::Grid(m) => m.sigma_t_at(p, time),
+            Medium::Moving(m) => m.sigma_t_at(p, time),
+            _ => self.sigma_t(p),
+        }
+    }
+
+    /// Extinction σa + σs at world point `p` (at time 0): all that tracking a shadow ray needs.
     #[inline]
     pub fn sigma_t(&self, p: Vec3) -> Rgb {
         match self {
@@ -139,6 +153,7 @@ impl Medium {
                 let p = m.properties(p, 0.0);
                 p.sigma_a + p.sigma_s
             }
+            Medium::Moving(m) => m.sigma_t_at(p, 0.0),
         }
     }
 
@@ -150,6 +165,7 @@ impl Medium {
             Medium::HeightFog(m) => MajorantIter::Fog(m.majorants(ray, t_max)),
             Medium::Grid(m) => MajorantIter::Grid(m.majorants(ray, t_max)),
             Medium::Interior(m) => MajorantIter::Masked(m.majorants(ray, t_max)),
+            Medium::Moving(m) => m.majorants(ray, t_max),
         }
     }
 
@@ -161,6 +177,7 @@ impl Medium {
             Medium::HeightFog(m) => Some(m.optical_depth(ray, t0, t1)),
             Medium::Grid(_) => None,
             Medium::Interior(m) => m.optical_depth(ray, t0, t1),
+            Medium::Moving(m) => m.optical_depth(ray, t0, t1),
         }
     }
 
@@ -171,6 +188,15 @@ impl Medium {
             Medium::HeightFog(m) => m.is_emissive(),
             Medium::Grid(m) => m.is_emissive(),
             Medium::Interior(m) => m.is_emissive(),
+            Medium::Moving(m) => m.inner().is_emissive(),
+        }
+    }
+
+    /// `self` moved by `keys` (`None`: unchanged); `self` must be built in its local frame.
+    pub fn moved_by(self, keys: Option<crate::math::keyframes::Keyframes>) -> Medium {
+        match keys {
+            Some(k) => Medium::Moving(std::sync::Arc::new(MovingMedium::new(self, k))),
+            None => self,
         }
     }
 }

@@ -188,12 +188,13 @@ pub fn resolve_frame(
     }
 }
 
-/// Refuses keyframed transforms (an array of transforms, or one with a
-/// `time` or `keyframes` key) and camera keyframes with one clear message:
-/// animated transforms are not supported yet.
+/// Refuses keyframes written in a form brume does not read (an array of
+/// transforms, a `time` key in a transform, `camera.keyframes`) with one
+/// line that shows the form it reads: `transform = { keyframes = [...] }`.
 pub fn reject_keyframes(value: &toml::Value, path: &str) -> Result<(), (String, String)> {
-    const MESSAGE: &str = "keyframed (animated) transforms are not supported yet: give one \
-        transform { translate, rotate, scale }; media move with a velocity grid";
+    const MESSAGE: &str = "write keyframes as transform = { keyframes = [{ time = 0.0, \
+        translate = [0.0, 0.0, 0.0] }, { time = 1.0, translate = [1.0, 0.0, 0.0] }] } \
+        (times in frames, like camera.shutter)";
     match value {
         toml::Value::Array(items) => {
             for (i, item) in items.iter().enumerate() {
@@ -205,9 +206,7 @@ pub fn reject_keyframes(value: &toml::Value, path: &str) -> Result<(), (String, 
                 let child_path = format!("{path}.{key}");
                 let keyed = key == "transform"
                     && (child.is_array()
-                        || child.as_table().is_some_and(|t| {
-                            t.contains_key("time") || t.contains_key("keyframes")
-                        }));
+                        || child.as_table().is_some_and(|t| t.contains_key("time")));
                 let camera_keys = path == "camera" && (key == "keyframes" || key == "time");
                 if keyed || camera_keys {
                     return Err((child_path, MESSAGE.into()));

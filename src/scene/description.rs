@@ -215,6 +215,9 @@ pub struct CameraDesc {
     /// Distance to the plane in focus (default: to `look_at`).
     #[serde(default)]
     pub focus_distance: Option<f32>,
+    /// Rigid motion of the camera: `{ keyframes = [...] }` (translate and rotate only).
+    #[serde(default)]
+    pub transform: Option<TransformDesc>,
 }
 
 fn default_up() -> [f32; 3] {
@@ -372,6 +375,26 @@ fn default_ground() -> Color {
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TransformDesc {
+    /// Translation.
+    #[serde(default)]
+    pub translate: Option<[f32; 3]>,
+    /// Rotation angles in degrees about X, Y and Z, applied in that order.
+    #[serde(default)]
+    pub rotate: Option<[f32; 3]>,
+    /// Uniform (number) or per-axis (array) scale.
+    #[serde(default)]
+    pub scale: Option<Color>,
+    /// Keyframes instead of one placement (see `math::keyframes`).
+    #[serde(default)]
+    pub keyframes: Option<Vec<KeyframeDesc>>,
+}
+
+/// One key of `transform = { keyframes = [...] }`: a placement at a time.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeyframeDesc {
+    /// Time in frames relative to the frame's time (the unit of `camera.shutter`).
+    pub time: f32,
     /// Translation.
     #[serde(default)]
     pub translate: Option<[f32; 3]>,

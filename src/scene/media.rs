@@ -188,13 +188,20 @@ pub(crate) fn build_medium(
             if !emission.is_black() {
                 warn_inert_emission(field, sigma_a, check);
             }
-            Ok(Medium::Homogeneous(HomogeneousMedium {
+            // Moving: the region is built in its local frame, placed per time.
+            let keys = super::keyframes::moving_keys(transform.as_ref(), field, check)?;
+            let region_transform = match (&keys, *global) {
+                (Some(_), false) => None,
+                _ => transform.as_ref(),
+            };
+            let medium = Medium::Homogeneous(HomogeneousMedium {
                 sigma_a,
                 sigma_s,
                 emission,
                 phase: build_phase(phase.as_ref(), field, check)?,
-                region: build_region(bounds.as_ref(), *global, transform.as_ref(), field, check)?,
-            }))
+                region: build_region(bounds.as_ref(), *global, region_transform, field, check)?,
+            });
+            Ok(medium.moved_by(keys))
         }
         MediumDesc::HeightFog { .. } => super::fog::build_height_fog(desc, field, check),
         MediumDesc::Vdb(vdb) => super::vdb::build_vdb_medium(vdb, field, check, base, timing),

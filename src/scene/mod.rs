@@ -6,6 +6,7 @@ pub mod description;
 mod envmap;
 mod fog;
 mod interior;
+mod keyframes;
 mod materials;
 mod media;
 mod shapes;
@@ -351,6 +352,7 @@ pub fn build_frame(
     let mut items = Vec::new();
     let mut texcoords = Vec::new();
     let mut any_vt = false;
+    let mut moving = Vec::new();
     let mut shape_materials = Vec::with_capacity(desc.shapes.len());
     let mut shape_textures = Vec::with_capacity(desc.shapes.len());
     let mut emissions = Vec::with_capacity(desc.shapes.len());
@@ -360,6 +362,7 @@ pub fn build_frame(
         let field = format!("shape[{i}]");
         let built = shapes::build_shape(shape, &field, &check, base)?;
         require_uv(shape, &field, built.texcoords.is_some(), &check, base)?;
+        let keys = moving_shape_keys(shape, &field, &check)?;
         let mut surface = true;
         if shape.interior.is_some() {
             surface = interior::boundary(shape, &field, &check)? == interior::Boundary::Dielectric;
@@ -372,15 +375,25 @@ pub fn build_frame(
                 &timing,
             )?);
         }
-        if surface {
-            // Texture coordinates are indexed like the primitives: only surfaces get both.
-            let n = built.primitives.len();
-            items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
-            any_vt |= built.texcoords.is_some();
-            match built.texcoords {
-                Some(t) => texcoords.extend(t),
-                None => texcoords.extend(std::iter::repeat_n(crate::geometry::BARYCENTRIC_UV, n)),
+        match keys {
+            Some(keys) => moving.push(crate::geometry::MovingShape::new(
+                i as u32,
+                built.primitives,
+                keys,
+            )),
+            None if surface => {
+                // Texture coordinates are indexed like the primitives: only surfaces get both.
+                let n = built.primitives.len();
+                items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
+                any_vt |= built.texcoords.is_some();
+                match built.texcoords {
+                    Some(t) => texcoords.extend(t),
+                    None => {
+                        texcoords.extend(std::iter::repeat_n(crate::geometry::BARYCENTRIC_UV, n))
+                    }
+                }
             }
+            None => {}
         }
         let (material, texture) =
             build_material(shape.material.as_ref(), &field, &check, base, &mut images)?;
@@ -403,14 +416,17 @@ pub fn build_frame(
         // Only OBJ corners carry coordinates of their own: keep no table without them.
         texcoords = Vec::new();
     }
-    let geometry = Geometry::with_texcoords(items, texcoords);
+    let geometry = Geometry::with_texcoords(items, texcoords).with_moving(moving);
 
     let mut lights = Vec::new();
     let mut shape_lights = vec![None; desc.shapes.len()];
     for (i, (shape, emission)) in desc.shapes.iter().zip(emissions).enumerate() {
         if let Some(radiance) = emission.filter(|e| e.max_channel() > 0.0) {
             shape_lights[i] = Some(lights.len() as u32);
-            lights.push(Light::area(i as u32, radiance, shape.two_sided, &geometry));
+            lights.push(match geometry.moving_shape(i as u32) {
+                Some(m) => Light::moving_area(i as u32, radiance, shape.two_sided, m.local()),
+                None => Light::area(i as u32, radiance, shape.two_sided, &geometry),
+            });
         }
     }
     let mut environments = 0;
@@ -459,6 +475,45 @@ pub fn build_frame(
     Ok((scene, check.take_warnings()))
 }
 
+/// The keyframes of a shape that moves; an emissive one must scale uniformly (`light::moving`).
+fn moving_shape_keys(
+    shape: &description::ShapeDesc,
+    field: &str,
+    check: &Check,
+) -> Result<Option<crate::math::keyframes::Keyframes>> {
+    let keys = keyframes::moving_keys(shape.transform.as_ref(), field, check)?;
+    let Some(keys) = keys else {
+        return Ok(None);
+    };
+    if shape.interior.is_some() {
+        return Err(check.error(
+            &format!("{field}.transform.keyframes"),
+            "a shape with an `interior` cannot move yet: keyframe the medium instead, or leave the shape still",
+        ));
+    }
+    if let Some((key, _)) = shape
+        .colors()
+        .into_iter()
+        .find(|(_, c)| matches!(c, description::ColorOrTexture::Texture(_)))
+    {
+        return Err(check.error(
+            &format!("{field}.{key}"),
+            "a textured shape cannot move yet (keyframed shapes take constant colours)",
+        ));
+    }
+    let emits = shape
+        .emission
+        .as_ref()
+        .is_some_and(|e| !matches!(e, description::ColorOrTexture::Color(c) if c.0 == [0.0; 3]));
+    if emits && !keys.is_uniform_scale() {
+        return Err(check.error(
+            &format!("{field}.transform.keyframes"),
+            "an emissive shape that moves must scale alike on all three axes in every key",
+        ));
+    }
+    Ok(Some(keys))
+}
+
 /// `[film] aovs`: known names, each once.
 fn build_aovs(names: &[String], check: &Check) -> Result<Vec<crate::integrator::aov::Aov>> {
     use crate::integrator::aov::Aov;
@@ -505,16 +560,22 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
     if w > 32768 || h > 32768 {
         return Err(check.error("camera.resolution", "at most 32768 pixels a side"));
     }
+    let (position, look_at, up, motion) = camera_placement(desc, position, look_at, up, check)?;
     // In f64: a look_at 1e30 away overflows the f32 length and is not a parallel up.
     let view = look_at.as_dvec3() - position.as_dvec3();
     if view.length() == 0.0 {
         return Err(check.error("camera.look_at", "equals camera.position"));
     }
+    check_camera_range(position, check)?;
     // A step the f32 position can resolve: 1 m, or a thousandth of a huge position.
     let step = position.length().max(1.0) * 1e-3 + 1.0;
     let aim = position + (view / view.length()).as_vec3() * step;
     let camera = Camera::new(position, aim, up, c.fov, w, h)
         .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))?;
+    let camera = match motion {
+        Some(keys) => camera.with_motion(keys),
+        None => camera,
+    };
     let axis = match c.fov_axis.as_deref() {
         None | Some("y" | "vertical") => FovAxis::Vertical,
         Some("x" | "horizontal") => FovAxis::Horizontal,
@@ -540,6 +601,67 @@ fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
         None => view.length() as f32,
     };
     Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
+}
+
+/// Refuses a camera position whose f32 ray arithmetic overflows (issue 11):
+/// |position|² must stay finite for the view frame and every ray it starts.
+fn check_camera_range(position: crate::math::Vec3, check: &Check) -> Result<()> {
+    if position.length_squared().is_finite() {
+        return Ok(());
+    }
+    Err(check.error(
+        "camera.position",
+        format!(
+            "is {:.3e} from the origin: too far for f32 ray arithmetic (at most about {:.1e}); \
+             move the scene toward the origin",
+            position.as_dvec3().length(),
+            f32::MAX.sqrt()
+        ),
+    ))
+}
+
+/// Position, look_at and up of the camera at rest, and the keyframes that move it.
+type CameraRest = (
+    crate::math::Vec3,
+    crate::math::Vec3,
+    crate::math::Vec3,
+    Option<crate::math::keyframes::Keyframes>,
+);
+
+/// `camera.transform`: a still placement moves position, look_at and up
+/// once; keyframes move the camera rigidly at each sample's time (no scale).
+fn camera_placement(
+    desc: &SceneDesc,
+    position: crate::math::Vec3,
+    look_at: crate::math::Vec3,
+    up: crate::math::Vec3,
+    check: &Check,
+) -> Result<CameraRest> {
+    let Some(t) = desc.camera.transform.as_ref() else {
+        return Ok((position, look_at, up, None));
+    };
+    let scales = std::iter::once(t.scale)
+        .chain(t.keyframes.iter().flatten().map(|k| k.scale))
+        .flatten();
+    for s in scales {
+        if s.0 != [1.0; 3] {
+            return Err(check.error(
+                "camera.transform",
+                "a camera moves rigidly: translate and rotate only, no scale",
+            ));
+        }
+    }
+    Ok(
+        match keyframes::build_placement(Some(t), "camera", check)? {
+            keyframes::Placed::Still(m) => (
+                m.transform_point3(position),
+                m.transform_point3(look_at),
+                m.transform_vector3(up),
+                None,
+            ),
+            keyframes::Placed::Moving(keys) => (position, look_at, up, Some(keys)),
+        },
+    )
 }
 
 /// Refuses a texture that needs texture coordinates on a mesh whose OBJ file has none.

@@ -5,47 +5,16 @@ use super::resolve;
 use super::validate::Check;
 use crate::error::{Error, Result};
 use crate::geometry::Primitive;
-use crate::math::{Affine3A, Frame, Quat, Vec2, Vec3};
+use crate::math::{Affine3A, Frame, Vec2, Vec3};
 use std::path::Path;
 
-/// The affine map of a `transform = { ... }` table (identity when absent).
+/// The affine map of a `transform = { ... }` table (identity when absent; keyframes refused).
 pub(crate) fn build_transform(
     t: Option<&TransformDesc>,
     field: &str,
     check: &Check,
 ) -> Result<Affine3A> {
-    let Some(t) = t else {
-        return Ok(Affine3A::IDENTITY);
-    };
-    let f = |name: &str| format!("{field}.transform.{name}");
-    let scale = match t.scale {
-        Some(s) => {
-            let mut v = [0.0; 3];
-            for (i, &c) in s.0.iter().enumerate() {
-                v[i] = check.positive(&format!("{}[{i}]", f("scale")), c)?;
-            }
-            Vec3::from_array(v)
-        }
-        None => Vec3::ONE,
-    };
-    let rotation = match t.rotate {
-        Some(r) => {
-            let r = check.vec3(&f("rotate"), r)?;
-            Quat::from_rotation_z(r.z.to_radians())
-                * Quat::from_rotation_y(r.y.to_radians())
-                * Quat::from_rotation_x(r.x.to_radians())
-        }
-        None => Quat::IDENTITY,
-    };
-    let translation = match t.translate {
-        Some(tr) => check.vec3(&f("translate"), tr)?,
-        None => Vec3::ZERO,
-    };
-    Ok(Affine3A::from_scale_rotation_translation(
-        scale,
-        rotation,
-        translation,
-    ))
+    super::keyframes::build_still(t, field, "this", check)
 }
 
 /// Names the keys set on `shape` that its type does not use.
@@ -96,7 +65,11 @@ pub(crate) fn build_shape(
     base: &Path,
 ) -> Result<BuiltShape> {
     reject_foreign_keys(shape, field, check)?;
-    let m = build_transform(shape.transform.as_ref(), field, check)?;
+    // A moving shape is built in its local frame (keyframes place it per ray time).
+    let m = match super::keyframes::build_placement(shape.transform.as_ref(), field, check)? {
+        super::keyframes::Placed::Still(m) => m,
+        super::keyframes::Placed::Moving(_) => Affine3A::IDENTITY,
+    };
     let center = check.vec3(&format!("{field}.center"), shape.center.unwrap_or([0.0; 3]))?;
     let size = |n: usize| -> Result<Vec<f32>> {
         let s = shape

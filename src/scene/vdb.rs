@@ -238,8 +238,14 @@ pub(crate) fn build_vdb_medium(
     if !matches!(emission, GridEmission::None) {
         super::media::warn_inert_emission(field, (Rgb::WHITE - albedo) * sigma_t_scale, check);
     }
+    // Moving: the grid is built in the file's frame, placed per time.
+    let keys = super::keyframes::moving_keys(desc.transform.as_ref(), field, check)?;
+    let to_world = match keys {
+        Some(_) => crate::math::Affine3A::IDENTITY,
+        None => build_transform(desc.transform.as_ref(), field, check)?,
+    };
     let params = GridMediumParams {
-        to_world: build_transform(desc.transform.as_ref(), field, check)?,
+        to_world,
         density_scale,
         sigma_t_scale,
         albedo,
@@ -248,9 +254,7 @@ pub(crate) fn build_vdb_medium(
         majorant,
         cell_size: None,
     };
-    Ok(Medium::Grid(Arc::new(GridMedium::new_moving(
-        density, params, motion,
-    ))))
+    Ok(Medium::Grid(Arc::new(GridMedium::new_moving(density, params, motion))).moved_by(keys))
 }
 
 /// The file of the frame being rendered: a pattern resolved, a plain path unchanged.

@@ -6,7 +6,7 @@
 
 use crate::color::Rgb;
 use crate::math::Vec3;
-use crate::medium::{GridMedium, HeightFog, HomogeneousMedium, MediumProperties};
+use crate::medium::{GridMedium, HeightFog, HomogeneousMedium, MediumProperties, MovingMedium};
 
 /// A medium's coefficients as tracking needs them.
 pub(crate) trait TrackedMedium {
@@ -54,6 +54,17 @@ impl TrackedMedium for GridMedium {
     }
 }
 
+impl TrackedMedium for MovingMedium {
+    #[inline]
+    fn sigma_t(&self, p: Vec3, time: f32) -> Rgb {
+        MovingMedium::sigma_t_at(self, p, time)
+    }
+    #[inline]
+    fn properties(&self, p: Vec3, time: f32) -> MediumProperties {
+        MovingMedium::properties(self, p, time)
+    }
+}
+
 /// Evaluates `$body` with `$m` bound to the concrete medium inside `$medium`.
 macro_rules! dispatch {
     ($medium:expr, $m:ident => $body:expr) => {
@@ -73,6 +84,10 @@ macro_rules! dispatch {
                     $body
                 }
             },
+            crate::medium::Medium::Moving(g) => {
+                let $m: &crate::medium::MovingMedium = g;
+                $body
+            }
         }
     };
 }
