@@ -28,20 +28,7 @@ pub(super) fn build(
             format!("cannot read environment map {}: {e}", path.display()),
         )
     })?;
-    if let Some(i) = texels
-        .iter()
-        .position(|t| !t.is_finite() || t.min_channel() < 0.0)
-    {
-        return Err(check.error(
-            &file_field,
-            format!(
-                "texel ({}, {}) of {} is negative or not finite",
-                i % width,
-                i / width,
-                path.display()
-            ),
-        ));
-    }
+    super::textures::check_finite_texels(check, &file_field, path, width, &texels)?;
     let scale = check.color(&format!("{field}.scale"), scale)?;
     let rotation = match rotate {
         Some(r) => {

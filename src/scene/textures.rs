@@ -202,26 +202,38 @@ fn image(
     } else {
         read_png_texels(&path, srgb).map_err(read_error)?
     };
-    if let Some(i) = texels
-        .iter()
-        .position(|t| !t.is_finite() || t.min_channel() < 0.0)
-    {
-        return Err(check.error(
-            &file_field,
-            format!(
-                "texel ({}, {}) of {} is negative or not finite",
-                i % width,
-                i / width,
-                path.display()
-            ),
-        ));
-    }
+    check_finite_texels(check, &file_field, &path, width, &texels)?;
     let image = Arc::new(
         Image::new(width, height, texels, wrap)
             .ok_or_else(|| read_error("the image is empty".into()))?,
     );
     cache.images.push((key, image.clone()));
     Ok(image)
+}
+
+/// Refuses an image with a negative or non-finite texel, naming the first one.
+pub(super) fn check_finite_texels(
+    check: &Check,
+    file_field: &str,
+    path: &Path,
+    width: usize,
+    texels: &[Rgb],
+) -> Result<()> {
+    match texels
+        .iter()
+        .position(|t| !t.is_finite() || t.min_channel() < 0.0)
+    {
+        Some(i) => Err(check.error(
+            file_field,
+            format!(
+                "texel ({}, {}) of {} is negative or not finite",
+                i % width,
+                i / width,
+                path.display()
+            ),
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Linear texels of a PNG: grey or RGB, an alpha channel only if opaque everywhere.
