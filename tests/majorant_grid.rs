@@ -170,3 +170,38 @@ fn cells_beyond_the_spike_reach_keep_a_zero_majorant() {
     assert!(m.bounds(IVec3::ZERO).1 >= 1.0);
     assert_eq!(m.bounds(IVec3::new(2, 2, 2)), (0.0, 0.0));
 }
+
+/// The same from the other end: a spike in the last cell leaves the first at 0
+/// (the cells a brick voxel reaches are found from both sides of the voxel).
+#[test]
+fn cells_before_the_spike_reach_keep_a_zero_majorant() {
+    let lo = (ORIGIN - IVec3::ONE).as_vec3();
+    let spike = (lo + Vec3::splat(2.5 * CELL as f32)).as_ivec3();
+    let grid = box_grid(spike, spike, 0.0, 1.0);
+    let m = MajorantGrid::build(&grid, lo, lo + (3 * CELL) as f32, Vec3::splat(CELL as f32));
+    assert!(m.bounds(IVec3::splat(2)).1 >= 1.0);
+    assert_eq!(m.bounds(IVec3::ZERO), (0.0, 0.0));
+}
+
+/// Over a constant density the bounds are that constant, widened only by the
+/// documented rounding pad (2⁻²⁰ relative), not by a loose factor.
+#[test]
+fn a_constant_density_is_bounded_within_the_rounding_pad() {
+    let lo = (ORIGIN - IVec3::ONE).as_vec3();
+    let c = 0.75f32;
+    // one voxel in a far corner differs, so the voxels are stored per voxel, not as a tile
+    let corner = ORIGIN + DIMS - IVec3::ONE;
+    let grid = box_grid(corner, corner, c, 0.5);
+    let m = MajorantGrid::build(&grid, lo, lo + (3 * CELL) as f32, Vec3::splat(CELL as f32));
+    // the middle cell's support lies inside the constant part of the grid
+    let (min, max) = m.bounds(IVec3::ONE);
+    let pad = 2.0f32.powi(-20);
+    assert!(
+        max >= c && max <= c * (1.0 + 2.0 * pad),
+        "max {max} is not {c} widened by at most the pad"
+    );
+    assert!(
+        min <= c && min >= c * (1.0 - 2.0 * pad),
+        "min {min} is not {c} narrowed by at most the pad"
+    );
+}
