@@ -53,6 +53,11 @@ fn probe_points(lo: Vec3, c: IVec3, t0: Vec3, t1: Vec3) -> Vec<Vec3> {
     // just below the far face: a few f32 steps, so the point stays in this cell
     let inside_b = b - b.abs().max(Vec3::ONE) * 4.0 * f32::EPSILON;
     let mut points = vec![t0.max(a).min(t1).clamp(a, inside_b)];
+    // A DDA's f32 segment ends put lookups a few ulps outside the cell: the
+    // support's extra voxel on each side covers them (module doc).
+    let slack = a.abs().max(b.abs()).max(Vec3::ONE) * 4.0 * f32::EPSILON;
+    points.push(t0.max(a - slack).min(t1).clamp(a - slack, b + slack));
+    points.push(t1.min(b + slack).max(t0).clamp(a - slack, b + slack));
     for i in 0..=4 {
         for j in 0..=4 {
             for k in 0..=4 {
@@ -204,4 +209,17 @@ fn a_constant_density_is_bounded_within_the_rounding_pad() {
         min <= c && min >= c * (1.0 - 2.0 * pad),
         "min {min} is not {c} narrowed by at most the pad"
     );
+}
+
+/// A uniform brick (bounded per block) leaves the cells it cannot reach at 0.
+#[test]
+fn cells_beyond_a_uniform_brick_keep_a_zero_majorant() {
+    let (b0, b1) = (IVec3::new(0, 8, 0), IVec3::new(7, 15, 7));
+    let grid = box_grid(b0, b1, 0.0, 1.0);
+    // cell 1 = [1, 9) per axis from the brick's corner: cell 2 starts two voxels
+    // past the brick's last one, beyond the one-voxel guard of its support
+    let lo = (b0 - IVec3::splat(CELL - 1)).as_vec3();
+    let m = MajorantGrid::build(&grid, lo, lo + (3 * CELL) as f32, Vec3::splat(CELL as f32));
+    assert!(m.bounds(IVec3::ONE).1 >= 1.0);
+    assert_eq!(m.bounds(IVec3::splat(2)), (0.0, 0.0));
 }
