@@ -223,3 +223,22 @@ fn cells_beyond_a_uniform_brick_keep_a_zero_majorant() {
     assert!(m.bounds(IVec3::ONE).1 >= 1.0);
     assert_eq!(m.bounds(IVec3::splat(2)), (0.0, 0.0));
 }
+
+/// A varying brick is bounded voxel by voxel: a cell that overlaps the
+/// spike's 8³ brick but lies beyond the spike's reach keeps majorant 0 (a
+/// bound per brick would give it the spike's value).
+#[test]
+fn a_varying_brick_is_bounded_per_voxel() {
+    let lo = (ORIGIN - IVec3::ONE).as_vec3();
+    // lo = (-6, 2, -12): cell faces at x = 2, y = 10, z = 4 cut the bricks
+    // [0, 7] × [8, 15] × [0, 7] that hold the spike (7, 14, 0), inside cell (1, 1, 1)
+    let spike = IVec3::new(7, 14, 0);
+    let grid = box_grid(spike, spike, 0.0, 1.0);
+    let m = MajorantGrid::build(&grid, lo, lo + (3 * CELL) as f32, Vec3::splat(CELL as f32));
+    assert!(m.bounds(IVec3::ONE).1 >= 1.0);
+    // cell (0, 1, 1) spans x ∈ [-6, 2), so its support ends at voxel 3, four short of the spike;
+    // cell (1, 1, 2) spans z ∈ [4, 12), its support starts at voxel 3
+    for c in [IVec3::new(0, 1, 1), IVec3::new(1, 1, 2)] {
+        assert_eq!(m.bounds(c), (0.0, 0.0), "cell {c}");
+    }
+}
