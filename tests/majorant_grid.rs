@@ -242,3 +242,14 @@ fn a_varying_brick_is_bounded_per_voxel() {
         assert_eq!(m.bounds(c), (0.0, 0.0), "cell {c}");
     }
 }
+
+/// A uniform brick ending one voxel below the grid's corner along x is still
+/// seen by the first cells (through their guard voxel, for lookups a few
+/// ulps below the corner), however the block range is computed.
+#[test]
+fn a_brick_just_below_the_grid_corner_reaches_the_first_cells() {
+    let (b0, b1) = (IVec3::new(0, 8, 0), IVec3::new(7, 15, 7));
+    let grid = box_grid(b0, b1, 0.0, 1.0);
+    let lo = Vec3::new(b1.x as f32 + 1.0, 0.0, -(CELL as f32));
+    assert_none(&violations(&grid, lo, b0, b1));
+}
