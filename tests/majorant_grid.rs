@@ -253,3 +253,35 @@ fn a_brick_just_below_the_grid_corner_reaches_the_first_cells() {
     let lo = Vec3::new(b1.x as f32 + 1.0, 0.0, -(CELL as f32));
     assert_none(&violations(&grid, lo, b0, b1));
 }
+
+/// Dilation for motion blur zeroes the minimum of exactly the cells that reach
+/// past `inside`, then filters along each axis: over a constant density, the
+/// cells whose whole neighbourhood lies inside keep the constant as their minimum.
+#[test]
+fn dilation_zeroes_the_minimum_of_exactly_the_cells_outside() {
+    // 4-voxel cells two voxels into the grid: every cell's support is constant
+    let cell = 4.0;
+    let lo = (ORIGIN + IVec3::splat(2)).as_vec3();
+    let hi = lo + 3.0 * cell;
+    let c = 0.75f32;
+    let corner = ORIGIN + DIMS - IVec3::ONE;
+    let grid = box_grid(corner, corner, c, 0.5);
+    let m = MajorantGrid::build(&grid, lo, hi, Vec3::splat(cell));
+    assert_eq!(m.dims(), IVec3::splat(3));
+    let still = m.bounds(IVec3::ONE).0;
+    assert!(still > 0.5 * c);
+    // the top layer (z = 2) reaches past `inside`; dilate by one cell along x only
+    let inside = (lo, Vec3::new(hi.x, hi.y, hi.z - cell));
+    let d = m.dilated(IVec3::new(1, 0, 0), inside);
+    for x in 0..3 {
+        for y in 0..3 {
+            for z in 0..3 {
+                let cell = IVec3::new(x, y, z);
+                // x = 0 and 2 see a neighbour beyond the grid (density 0 for the minimum)
+                let want = if x == 1 && z < 2 { still } else { 0.0 };
+                assert_eq!(d.bounds(cell).0, want, "cell {cell}");
+                assert!(d.bounds(cell).1 >= c, "cell {cell}");
+            }
+        }
+    }
+}
