@@ -285,3 +285,15 @@ fn dilation_zeroes_the_minimum_of_exactly_the_cells_outside() {
         }
     }
 }
+
+/// A uniform brick that the grid's corner cuts, with the corner at positive
+/// coordinates: the first cells still see it (the range of cells a block
+/// reaches is taken relative to the corner, whatever its sign).
+#[test]
+fn a_brick_above_a_positive_grid_corner_reaches_its_cells() {
+    let (b0, b1) = (IVec3::new(0, 8, 0), IVec3::new(7, 15, 7));
+    let grid = box_grid(b0, b1, 0.0, 1.0);
+    // cell (·, 0, ·) spans y ∈ [10, 18): the brick's upper part [10, 15]
+    let lo = Vec3::new(-(CELL as f32), 10.0, -(CELL as f32));
+    assert_none(&violations(&grid, lo, b0, b1));
+}
