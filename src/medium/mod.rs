@@ -132,7 +132,11 @@ impl Medium {
         match self {
             Medium::Grid(m) => m.sigma_t_at(p, time),
             Medium::Moving(m) => m.sigma_t_at(p, time),
-            _ => self.sigma_t(p),
+            Medium::Interior(m) => {
+                let p = m.properties(p, time);
+                p.sigma_a + p.sigma_s
+            }
+            Medium::Homogeneous(_) | Medium::HeightFog(_) => self.sigma_t(p),
         }
     }
 

@@ -15,6 +15,18 @@ pub(crate) enum Placed {
     Moving(Keyframes),
 }
 
+impl Placed {
+    /// The map from the frame the object is built in to world space (the
+    /// identity for a moving object, built in its local frame), and the keys
+    /// that move it.
+    pub(crate) fn split(self) -> (Affine3A, Option<Keyframes>) {
+        match self {
+            Placed::Still(m) => (m, None),
+            Placed::Moving(k) => (Affine3A::IDENTITY, Some(k)),
+        }
+    }
+}
+
 /// Scale, rotation and translation written at `prefix` (`shape[0].transform`).
 fn trs(
     translate: Option<[f32; 3]>,
@@ -140,8 +152,5 @@ pub(crate) fn moving_keys(
     field: &str,
     check: &Check,
 ) -> Result<Option<Keyframes>> {
-    match build_placement(t, field, check)? {
-        Placed::Still(_) => Ok(None),
-        Placed::Moving(k) => Ok(Some(k)),
-    }
+    Ok(build_placement(t, field, check)?.split().1)
 }

@@ -360,9 +360,9 @@ pub fn build_frame(
     let mut interiors = Vec::new();
     for (i, shape) in desc.shapes.iter().enumerate() {
         let field = format!("shape[{i}]");
-        let built = shapes::build_shape(shape, &field, &check, base)?;
+        let mut built = shapes::build_shape(shape, &field, &check, base)?;
         require_uv(shape, &field, built.texcoords.is_some(), &check, base)?;
-        let keys = moving_shape_keys(shape, &field, &check)?;
+        let keys = check_moving_shape(shape, built.keys.take(), &field, &check)?;
         let mut surface = true;
         if shape.interior.is_some() {
             surface = interior::boundary(shape, &field, &check)? == interior::Boundary::Dielectric;
@@ -475,13 +475,14 @@ pub fn build_frame(
     Ok((scene, check.take_warnings()))
 }
 
-/// The keyframes of a shape that moves; an emissive one must scale uniformly (`light::moving`).
-fn moving_shape_keys(
+/// The keyframes `keys` of a shape, refused where the shape cannot move:
+/// with an interior or a texture, or emissive and not scaled uniformly (`light::moving`).
+fn check_moving_shape(
     shape: &description::ShapeDesc,
+    keys: Option<crate::math::keyframes::Keyframes>,
     field: &str,
     check: &Check,
 ) -> Result<Option<crate::math::keyframes::Keyframes>> {
-    let keys = keyframes::moving_keys(shape.transform.as_ref(), field, check)?;
     let Some(keys) = keys else {
         return Ok(None);
     };

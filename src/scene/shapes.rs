@@ -5,6 +5,7 @@ use super::resolve;
 use super::validate::Check;
 use crate::error::{Error, Result};
 use crate::geometry::Primitive;
+use crate::math::keyframes::Keyframes;
 use crate::math::{Affine3A, Frame, Vec2, Vec3};
 use std::path::Path;
 
@@ -55,6 +56,8 @@ pub(crate) struct BuiltShape {
     /// Per-corner texture coordinates of each triangle of a mesh with `vt`
     /// lines; `None` for a mesh without (built-in shapes have their own, see `Geometry::uv`).
     pub texcoords: Option<Vec<[Vec2; 3]>>,
+    /// The keyframes of a shape that moves; its primitives are then in its local frame.
+    pub keys: Option<Keyframes>,
 }
 
 /// The primitives of one shape entry, in world space.
@@ -66,10 +69,8 @@ pub(crate) fn build_shape(
 ) -> Result<BuiltShape> {
     reject_foreign_keys(shape, field, check)?;
     // A moving shape is built in its local frame (keyframes place it per ray time).
-    let m = match super::keyframes::build_placement(shape.transform.as_ref(), field, check)? {
-        super::keyframes::Placed::Still(m) => m,
-        super::keyframes::Placed::Moving(_) => Affine3A::IDENTITY,
-    };
+    let (m, keys) =
+        super::keyframes::build_placement(shape.transform.as_ref(), field, check)?.split();
     let center = check.vec3(&format!("{field}.center"), shape.center.unwrap_or([0.0; 3]))?;
     let size = |n: usize| -> Result<Vec<f32>> {
         let s = shape
@@ -154,12 +155,14 @@ pub(crate) fn build_shape(
                 .as_ref()
                 .ok_or_else(|| check.error(&format!("{field}.file"), "missing"))?;
             let path = resolve(base, file);
-            return load_obj(&path, &m, &format!("{field}.file"), check);
+            let mesh = load_obj(&path, &m, &format!("{field}.file"), check)?;
+            return Ok(BuiltShape { keys, ..mesh });
         }
     };
     Ok(BuiltShape {
         primitives,
         texcoords: None,
+        keys,
     })
 }
 
@@ -269,5 +272,6 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
     Ok(BuiltShape {
         primitives: prims,
         texcoords: all_have_uv.then_some(texcoords),
+        keys: None,
     })
 }

@@ -29,7 +29,6 @@ use std::sync::Arc;
 use super::animation::{self, Timing};
 use super::description::{Color, PhaseDesc, TransformDesc};
 use super::media::build_phase;
-use super::shapes::build_transform;
 use super::validate::Check;
 use crate::color::Rgb;
 use crate::error::Result;
@@ -239,11 +238,8 @@ pub(crate) fn build_vdb_medium(
         super::media::warn_inert_emission(field, (Rgb::WHITE - albedo) * sigma_t_scale, check);
     }
     // Moving: the grid is built in the file's frame, placed per time.
-    let keys = super::keyframes::moving_keys(desc.transform.as_ref(), field, check)?;
-    let to_world = match keys {
-        Some(_) => crate::math::Affine3A::IDENTITY,
-        None => build_transform(desc.transform.as_ref(), field, check)?,
-    };
+    let (to_world, keys) =
+        super::keyframes::build_placement(desc.transform.as_ref(), field, check)?.split();
     let params = GridMediumParams {
         to_world,
         density_scale,
