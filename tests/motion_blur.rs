@@ -13,25 +13,8 @@
 #[path = "analytic_support/mod.rs"]
 mod analytic_support;
 
+use analytic_support::common::sample_bits;
 use analytic_support::scene_from_str;
-use brume::color::Rgb;
-use brume::integrator::Scene;
-use brume::render::pixel_sample;
-
-/// Every sample of every pixel, in order: equal vectors mean bit-identical images.
-fn samples(scene: &Scene, spp: u32) -> Vec<[u32; 3]> {
-    let (w, h) = (scene.camera.width(), scene.camera.height());
-    let mut out = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            for s in 0..spp {
-                let l: Rgb = pixel_sample(scene, x, y, s);
-                out.push([l.r.to_bits(), l.g.to_bits(), l.b.to_bits()]);
-            }
-        }
-    }
-    out
-}
 
 fn with_shutter(scene: &str, shutter: &str) -> String {
     scene.replace("[camera]", &format!("[camera]\nshutter = {shutter}"))
@@ -65,9 +48,9 @@ fn a_scene_without_motion_renders_bit_identically_with_a_shutter() {
     let still = scene_from_str(STATIC_SCENE);
     let blurred = scene_from_str(&with_shutter(STATIC_SCENE, "[-0.5, 0.5]"));
     assert_eq!(blurred.settings.shutter, Some([-0.5, 0.5]));
-    let a = samples(&still, 4);
+    let a = sample_bits(&still, 4);
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
-    assert_eq!(a, samples(&blurred, 4));
+    assert_eq!(a, sample_bits(&blurred, 4));
 }
 
 const PLUME: &str = "tests/data/anim/plume.0001.vdb";
@@ -117,13 +100,13 @@ fn a_vdb_with_zero_velocity_renders_bit_identically_with_a_shutter() {
         panic!("grid medium")
     };
     assert!(m.is_moving(), "the motion path must be the one tested");
-    let a = samples(&still, 4);
+    let a = sample_bits(&still, 4);
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
-    assert_eq!(a, samples(&zero, 4));
+    assert_eq!(a, sample_bits(&zero, 4));
     // the real velocity does change the image
     let moving = scene_from_str(&plume_scene(
         "velocity_grid = \"vel\"\nvelocity_scale = 4.0",
         Some("[-0.5, 0.5]"),
     ));
-    assert_ne!(a, samples(&moving, 4));
+    assert_ne!(a, sample_bits(&moving, 4));
 }

@@ -10,41 +10,8 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use brume::color::Rgb;
 use brume::integrator::Scene;
-use brume::render::pixel_sample;
-use common::{assert_pixels, scene_from_str, Accumulator, Estimate};
-
-/// Every sample of every pixel, in order: equal vectors mean bit-identical images.
-fn samples(scene: &Scene, spp: u32) -> Vec<[u32; 3]> {
-    let (w, h) = (scene.camera.width(), scene.camera.height());
-    let mut out = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            for s in 0..spp {
-                let l: Rgb = pixel_sample(scene, x, y, s);
-                out.push([l.r.to_bits(), l.g.to_bits(), l.b.to_bits()]);
-            }
-        }
-    }
-    out
-}
-
-/// Per-pixel estimates over `spp` samples of the render path.
-fn pixel_estimates(scene: &Scene, spp: u32) -> Vec<Estimate> {
-    let (w, h) = (scene.camera.width(), scene.camera.height());
-    let mut out = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            let mut acc = Accumulator::default();
-            for s in 0..spp {
-                acc.add(pixel_sample(scene, x, y, s));
-            }
-            out.push(acc.estimate());
-        }
-    }
-    out
-}
+use common::{assert_pixels, estimate_pixels, sample_bits, scene_from_str, Accumulator, Estimate};
 
 /// ∫ f over [a, b] by the midpoint rule on `n` pieces (exact to ~1e-9 for the ramps here).
 fn average(a: f64, b: f64, f: impl Fn(f64) -> f64) -> f64 {
@@ -88,7 +55,7 @@ fn a_camera_moving_past_an_edge_gives_the_analytic_ramp() {
     ));
     assert!(scene.camera.is_moving());
     let spp = 1024;
-    let pixels = pixel_estimates(&scene, spp);
+    let pixels = estimate_pixels(&scene, spp);
     let expected: Vec<[f64; 3]> = (0..2)
         .flat_map(|_| 0..16)
         .map(|i| {
@@ -118,9 +85,9 @@ fn still_keyframes_and_a_still_camera_are_bit_identical() {
         !keyed.camera.is_moving(),
         "keys that do not move are a still camera"
     );
-    let a = samples(&plain, 8);
+    let a = sample_bits(&plain, 8);
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
-    assert_eq!(a, samples(&keyed, 8));
+    assert_eq!(a, sample_bits(&keyed, 8));
 }
 
 // --- moving shapes -------------------------------------------------------
@@ -173,7 +140,7 @@ fn a_moving_emissive_quad_and_mesh_cover_pixels_for_their_share_of_the_shutter()
     );
     for (name, shape) in [("quad", quad), ("mesh", mesh)] {
         let scene = scene_from_str(&moving_emitter_scene(&shape));
-        let pixels = pixel_estimates(&scene, 1024);
+        let pixels = estimate_pixels(&scene, 1024);
         assert_pixels(
             &pixels,
             &expected,
@@ -309,9 +276,9 @@ fn shapes_with_keys_that_do_not_move_render_as_a_plain_transform() {
            { time = 0.5, translate = [0.3, 0.0, 0.0] }] }",
     )));
     assert!(keyed.geometry.moving_shape(1).is_none());
-    let a = samples(&plain, 16);
+    let a = sample_bits(&plain, 16);
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
-    assert_eq!(a, samples(&keyed, 16));
+    assert_eq!(a, sample_bits(&keyed, 16));
 }
 
 #[test]

@@ -100,6 +100,22 @@ pub fn estimate_ray(scene: &Scene, ray: Ray, n: usize, seed: u64) -> Estimate {
     acc.estimate()
 }
 
+/// Every sample of every pixel of the render path, in order, as bits: equal
+/// vectors mean bit-identical images.
+pub fn sample_bits(scene: &Scene, spp: u32) -> Vec<[u32; 3]> {
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let mut out = Vec::with_capacity((w * h * spp) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            for s in 0..spp {
+                let l = brume::render::pixel_sample(scene, x, y, s);
+                out.push([l.r.to_bits(), l.g.to_bits(), l.b.to_bits()]);
+            }
+        }
+    }
+    out
+}
+
 /// Per-pixel estimates of a whole image with `spp` samples each.
 pub fn estimate_pixels(scene: &Scene, spp: usize) -> Vec<Estimate> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
