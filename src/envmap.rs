@@ -92,6 +92,26 @@ impl EnvMap {
         self.texels[y * self.width + x]
     }
 
+    /// Radiance averaged over the sphere (each texel weighted by its solid angle, ∝ sin θ).
+    pub fn average(&self) -> Rgb {
+        let mut sum = [0.0f64; 3];
+        let mut weight = 0.0f64;
+        for (i, t) in self.texels.iter().enumerate() {
+            let sin_theta =
+                (std::f64::consts::PI * ((i / self.width) as f64 + 0.5) / self.height as f64).sin();
+            sum[0] += t.r as f64 * sin_theta;
+            sum[1] += t.g as f64 * sin_theta;
+            sum[2] += t.b as f64 * sin_theta;
+            weight += sin_theta;
+        }
+        let w = weight.max(f64::MIN_POSITIVE);
+        Rgb::new(
+            (sum[0] / w) as f32,
+            (sum[1] / w) as f32,
+            (sum[2] / w) as f32,
+        )
+    }
+
     /// Radiance arriving from world direction `dir` (pointing away from the receiver).
     pub fn radiance(&self, dir: Vec3) -> Rgb {
         self.texel(self.uv(dir))

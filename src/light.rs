@@ -10,7 +10,9 @@ use std::f32::consts::PI;
 use std::sync::Arc;
 
 mod moving;
+mod pick;
 mod sphere;
+pub use pick::{LightPick, UNIFORM_SHARE};
 use sphere::Cone;
 
 /// Radiance arriving from the sky in a direction, for environments.
@@ -37,6 +39,22 @@ pub enum Environment {
 }
 
 impl Environment {
+    /// Radiance averaged over all directions of the sphere.
+    pub fn average(&self) -> Rgb {
+        match self {
+            Environment::Constant { radiance } => *radiance,
+            Environment::Map(map) => map.average(),
+            // Directions are uniform in h = cos θ from the up axis: the ground holds
+            // half the sphere, and over the upper half E[√h] = 2/3.
+            Environment::Sky {
+                zenith,
+                horizon,
+                ground,
+                ..
+            } => *ground * 0.5 + (*horizon * (1.0 / 3.0) + *zenith * (2.0 / 3.0)) * 0.5,
+        }
+    }
+
     /// Radiance arriving from direction `dir` (pointing away from the receiver).
     pub fn radiance(&self, dir: Vec3) -> Rgb {
         match *self {
@@ -172,6 +190,43 @@ impl Light {
             *moving = true;
         }
         light
+    }
+
+    /// The light's power (luminance) as the light pick weighs it: the flux it
+    /// emits, and for a light at infinity the flux it sends onto a disk of
+    /// radius `scene_radius` (the scene's bounding sphere) facing it.
+    ///
+    /// A sun sends πr²·E; an environment of average radiance L sends πr²·πL,
+    /// the irradiance πL it gives a flat surface facing anywhere. (pbrt counts
+    /// 4π²r²L, the flux into a sphere's cross-section from all directions;
+    /// πL weighs an environment as a surface sees it, and BSDF and phase
+    /// sampling, combined with the environment's own by MIS, already find a
+    /// smooth sky well: the B4 fog layer renders with a lower error per sample
+    /// with the sun asked more often, not less.)
+    pub fn power(&self, scene_radius: f32) -> f32 {
+        let disk = PI * scene_radius * scene_radius;
+        match self {
+            Light::Point { intensity, .. } => 4.0 * PI * intensity.luminance(),
+            // The smoothstep falloff integrates to half the band between the cones.
+            Light::Spot {
+                intensity,
+                cos_inner,
+                cos_outer,
+                ..
+            } => 2.0 * PI * intensity.luminance() * (1.0 - 0.5 * (cos_inner + cos_outer)),
+            Light::Area {
+                radiance,
+                two_sided,
+                cumulative_area,
+                ..
+            } => {
+                let area = cumulative_area.last().copied().unwrap_or(0.0);
+                let sides = if *two_sided { 2.0 } else { 1.0 };
+                PI * area * sides * radiance.average().luminance()
+            }
+            Light::Sun { irradiance, .. } => disk * irradiance.luminance(),
+            Light::Environment(env) => disk * PI * env.average().luminance(),
+        }
     }
 
     /// Position of a point or spot light (the lights equiangular sampling aims at).

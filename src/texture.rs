@@ -61,6 +61,19 @@ impl Image {
         self.texels[j * self.width + i]
     }
 
+    /// Mean of the texels.
+    pub fn average(&self) -> Rgb {
+        let sum = self.texels.iter().fold([0.0f64; 3], |a, t| {
+            [a[0] + t.r as f64, a[1] + t.g as f64, a[2] + t.b as f64]
+        });
+        let n = self.texels.len().max(1) as f64;
+        Rgb::new(
+            (sum[0] / n) as f32,
+            (sum[1] / n) as f32,
+            (sum[2] / n) as f32,
+        )
+    }
+
     /// Largest channel value of any texel.
     pub fn max_channel(&self) -> f32 {
         self.texels
@@ -167,6 +180,16 @@ impl Texture {
         match self {
             Texture::Constant(c) => Some(*c),
             _ => None,
+        }
+    }
+
+    /// The value averaged over [0, 1]² of texture coordinates (a repeating
+    /// image's mean; a clamped one's mean too, as a light's power estimate).
+    pub fn average(&self) -> Rgb {
+        match self {
+            Texture::Constant(c) => *c,
+            Texture::Image { image, scale, .. } => image.average() * *scale,
+            Texture::Checkerboard { a, b, .. } => (*a + *b) * 0.5,
         }
     }
 

@@ -382,6 +382,53 @@ fn point_light_single_scattering_matches_quadrature() {
     }
 }
 
+/// Two point lights of unequal power beside the ray: single scattering is the
+/// sum of each light's quadrature. The light pick asks the brighter one about
+/// five times in six, so NEE, the free-flight weight of equiangular sampling
+/// and equiangular's own estimate must all use that pick probability, not 1/N.
+#[test]
+fn two_point_lights_of_unequal_power_add_up() {
+    let bright = Beam {
+        sigma_a: [0.05; 3],
+        sigma_s: [0.25; 3],
+        g: 0.5,
+        intensity: [12.0; 3],
+        light: [3.0, 0.8, 0.4],
+        spot: None,
+    };
+    let dim = Beam {
+        intensity: [1.5; 3],
+        light: [0.8, -0.5, 0.3],
+        ..bright
+    };
+    let (a, b) = (bright.single_scattering(), dim.single_scattering());
+    let expected = [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+    for equiangular in [true, false] {
+        let scene = format!(
+            "{}
+[[light]]
+type = \"point\"
+position = {}
+intensity = {}
+",
+            bright.scene("auto", equiangular),
+            toml3(dim.light),
+            toml3(dim.intensity)
+        );
+        let est = estimate_li(
+            &scene_from_str(&scene),
+            Ray::new(Vec3::ZERO, Vec3::X),
+            2 * N,
+            131,
+        );
+        assert_estimate(
+            &est,
+            expected,
+            &format!("two point lights, equiangular {equiangular}"),
+        );
+    }
+}
+
 /// The same with a spot light aimed down at the ray, its cone (with soft edge) covering part of it.
 #[test]
 fn spot_light_single_scattering_matches_quadrature() {

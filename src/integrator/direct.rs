@@ -95,7 +95,7 @@ fn shadow_ray(origin: Vec3, p: Vec3, ls: &LightSample) -> (Ray, f32) {
     (Ray::new(origin, chord / length), length * (1.0 - 1e-4))
 }
 
-/// Next-event estimation from `vertex` to one light chosen uniformly, at the path's `time`.
+/// Next-event estimation from `vertex` to one light picked by `Scene::light_pick`, at the path's `time`.
 ///
 /// Shadow rays carry the media's transmittance. The sample is MIS-weighted
 /// against the BSDF/phase sampling that every vertex also does.
@@ -105,12 +105,11 @@ pub(super) fn direct_light(
     time: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
-    if scene.lights.is_empty() {
-        return Rgb::BLACK;
-    }
     let pick = sampler.next_1d();
     let u = sampler.next_2d();
-    let index = ((pick * scene.lights.len() as f32) as usize).min(scene.lights.len() - 1);
+    let Some(index) = scene.light_pick.sample(pick) else {
+        return Rgb::BLACK;
+    };
     let light = &scene.lights[index];
     let p = vertex.position();
     let Some(ls) = light.sample_facing(p, vertex.normal(), u, &scene.geometry, time) else {
@@ -133,7 +132,7 @@ pub(super) fn direct_light(
     if tr.is_black() {
         return Rgb::BLACK;
     }
-    let light_pdf = ls.pdf * scene.light_pick_probability();
+    let light_pdf = ls.pdf * scene.light_pick_probability(index);
     let weight = match vertex {
         // Point and spot lights are also reached by equiangular sampling along the segment.
         Vertex::Medium {

@@ -168,7 +168,8 @@ pub(super) fn free_flight_weight(
     if eq == 0.0 {
         return 1.0;
     }
-    let ff = MediaAt::new(scene, ray, t, None).free_flight_density() / scene.lights.len() as f32;
+    let ff = MediaAt::new(scene, ray, t, None).free_flight_density()
+        * scene.light_pick_probability(light_index);
     ff * ff / (ff * ff + eq * eq)
 }
 
@@ -177,10 +178,11 @@ pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) 
     let pick = sampler.next_1d();
     let u = sampler.next_1d();
     let k = ((pick * segment.point_lights as f32) as usize).min(segment.point_lights - 1);
-    let Some(light) = scene
+    let Some((light_index, light)) = scene
         .lights
         .iter()
-        .filter(|l| l.point_position().is_some())
+        .enumerate()
+        .filter(|(_, l)| l.point_position().is_some())
         .nth(k)
     else {
         return Rgb::BLACK;
@@ -213,7 +215,7 @@ pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) 
     }
     let tr_light = scene.transmittance(&shadow, t_light, sampler);
     let eq = sample.pdf / segment.point_lights as f32;
-    let ff = media.free_flight_density() / scene.lights.len() as f32;
+    let ff = media.free_flight_density() * scene.light_pick_probability(light_index);
     let weight = eq * eq / (eq * eq + ff * ff);
     media.tr * media.in_scatter * tr_light * ls.radiance * (weight / eq)
 }

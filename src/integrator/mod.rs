@@ -14,7 +14,7 @@ pub mod tracking;
 use crate::camera::Camera;
 use crate::color::Rgb;
 use crate::geometry::{Geometry, SurfaceHit};
-use crate::light::Light;
+use crate::light::{Light, LightPick};
 use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
@@ -71,6 +71,8 @@ pub struct Scene {
     pub shape_lights: Vec<Option<u32>>,
     /// All lights.
     pub lights: Vec<Light>,
+    /// How next-event estimation picks one of `lights` (by power; see `light::LightPick`).
+    pub light_pick: LightPick,
     /// All participating media (they overlap additively).
     pub media: Vec<Medium>,
     /// Sampling settings.
@@ -80,9 +82,10 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Probability of choosing any one light for next-event estimation.
-    fn light_pick_probability(&self) -> f32 {
-        1.0 / self.lights.len() as f32
+    /// Probability that next-event estimation picks light `index`.
+    #[inline]
+    fn light_pick_probability(&self, index: usize) -> f32 {
+        self.light_pick.pmf(index)
     }
 
     /// The material at `hit`: the shape's, its colour looked up in the shape's texture.
@@ -105,7 +108,10 @@ impl Scene {
         prev_normal: Option<Vec3>,
     ) -> Rgb {
         let mut total = Rgb::BLACK;
-        for light in self.lights.iter().filter(|l| l.is_infinite()) {
+        for (index, light) in self.lights.iter().enumerate() {
+            if !light.is_infinite() {
+                continue;
+            }
             let le = light.escaped_radiance(dir);
             if le.is_black() {
                 continue;
@@ -114,7 +120,7 @@ impl Scene {
                 1.0
             } else {
                 let light_pdf =
-                    light.escaped_pdf_facing(dir, prev_normal) * self.light_pick_probability();
+                    light.escaped_pdf_facing(dir, prev_normal) * self.light_pick_probability(index);
                 power_heuristic(prev_pdf, light_pdf)
             };
             total += le * weight;
@@ -302,7 +308,7 @@ fn add_surface_emission(scene: &Scene, path: &mut PathState, hit: &SurfaceHit) {
             hit.geometric_normal,
             &scene.geometry,
             path.ray.time,
-        ) * scene.light_pick_probability();
+        ) * scene.light_pick_probability(light_index as usize);
         power_heuristic(path.prev_pdf, light_pdf)
     };
     path.radiance += path.throughput * le * weight;

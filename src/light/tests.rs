@@ -290,3 +290,87 @@ fn textured_area_light_samples_carry_the_texture_at_their_point() {
         assert_eq!(seen, [true, true], "shape {shape}: both colours sampled");
     }
 }
+
+/// Mean of `f` over the sphere by a stratified grid of uniform directions.
+fn sphere_mean(f: impl Fn(Vec3) -> f64) -> f64 {
+    let n = 400;
+    let mut sum = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+            sum += f(warp::square_to_uniform_sphere(u));
+        }
+    }
+    sum / (n * n) as f64
+}
+
+#[test]
+fn sky_average_is_its_mean_over_the_sphere() {
+    let sky = Environment::Sky {
+        zenith: Rgb::new(0.2, 0.4, 1.0),
+        horizon: Rgb::new(0.9, 0.8, 0.5),
+        ground: Rgb::new(0.1, 0.3, 0.05),
+        up: Vec3::new(0.3, 0.9, -0.2).normalize(),
+    };
+    let avg = sky.average();
+    for c in 0..3 {
+        let mean = sphere_mean(|d| sky.radiance(d)[c] as f64);
+        assert!(
+            (avg[c] as f64 - mean).abs() < 1e-3,
+            "{c}: {} vs {mean}",
+            avg[c]
+        );
+    }
+}
+
+/// Point and spot powers are the intensity integrated over the sphere
+/// (the spot's smoothstep edge included); areas and distant lights follow
+/// their formulas.
+#[test]
+fn powers_are_the_emitted_flux() {
+    let spot = Light::Spot {
+        position: Vec3::ZERO,
+        axis: Vec3::new(0.0, -0.6, 0.8),
+        intensity: Rgb::splat(3.0),
+        cos_inner: 0.9,
+        cos_outer: 0.6,
+    };
+    let Light::Spot { axis, .. } = spot else {
+        unreachable!()
+    };
+    let flux = 4.0
+        * std::f64::consts::PI
+        * sphere_mean(|d| 3.0 * spot_falloff(d.dot(axis), 0.9, 0.6) as f64);
+    assert!(
+        (spot.power(1.0) as f64 - flux).abs() < 1e-3 * flux,
+        "{} vs {flux}",
+        spot.power(1.0)
+    );
+    let point = Light::Point {
+        position: Vec3::ONE,
+        intensity: Rgb::splat(2.0),
+    };
+    assert!((point.power(5.0) - 8.0 * PI).abs() < 1e-5);
+    let sun = Light::Sun {
+        to_sun: Vec3::Y,
+        irradiance: Rgb::splat(4.0),
+        cos_max: 1.0,
+    };
+    assert!((sun.power(2.0) - 16.0 * PI).abs() < 1e-4);
+    let env = Light::Environment(Environment::Constant {
+        radiance: Rgb::splat(0.5),
+    });
+    assert!((env.power(2.0) - 2.0 * PI * PI).abs() < 1e-4);
+    let quad = Geometry::new(vec![(
+        Primitive::Parallelogram {
+            corner: Vec3::ZERO,
+            edge_u: Vec3::new(2.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 0.0, 3.0),
+        },
+        0,
+    )]);
+    for (two_sided, sides) in [(false, 1.0), (true, 2.0)] {
+        let area = Light::area(0, Texture::Constant(Rgb::splat(0.5)), two_sided, &quad);
+        assert!((area.power(9.0) - PI * 6.0 * 0.5 * sides).abs() < 1e-4);
+    }
+}

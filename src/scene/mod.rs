@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{Scene, Settings, TransmittanceEstimator};
-use crate::light::{Environment, Light};
+use crate::light::{Environment, Light, LightPick};
 use crate::material::Material;
 use crate::texture::Texture;
 use description::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
@@ -461,6 +461,7 @@ pub fn build_frame(
         .collect::<Result<Vec<_>>>()?;
     media.extend(interiors);
 
+    let light_pick = light_pick(&lights, &geometry, &camera);
     let scene = Scene {
         camera,
         geometry,
@@ -468,11 +469,31 @@ pub fn build_frame(
         shape_textures,
         shape_lights,
         lights,
+        light_pick,
         media,
         settings,
         aovs: build_aovs(&desc.film.aovs, &check)?,
     };
     Ok((scene, check.take_warnings()))
+}
+
+/// The light pick by power, lights at infinity weighed over the scene's
+/// bounding sphere: the shapes, the camera and the point and spot lights.
+fn light_pick(lights: &[Light], geometry: &Geometry, camera: &Camera) -> LightPick {
+    let mut bounds = geometry.bounds().include(camera.view_at(0.0).position);
+    for light in lights {
+        if let Some(p) = light.point_position() {
+            bounds = bounds.include(p);
+        }
+    }
+    let radius = 0.5 * (bounds.max - bounds.min).length();
+    let radius = if radius.is_finite() && radius > 0.0 {
+        radius
+    } else {
+        1.0
+    };
+    let power: Vec<f32> = lights.iter().map(|l| l.power(radius)).collect();
+    LightPick::new(&power)
 }
 
 /// The keyframes `keys` of a shape, refused where the shape cannot move:
