@@ -22,8 +22,11 @@ media=(--test analytic_transmittance --test media_grid --test media_grid_render
     --test height_fog --test tracking_roulette --test exact_voxels
     --test interior_media --test vdb_vs_homogeneous_image --test motion_box
     --test motion_blur --test motion_keyframed_media)
+# The nextest profile (.config/nextest.toml): slow tests of other parts left out.
+export NEXTEST_PROFILE=mutants
 case $part in
 estimator)
+    export NEXTEST_PROFILE=mutants-lights
     files=(-f src/integrator/mod.rs -f src/integrator/direct.rs)
     tests=(--lib "${render[@]}" --test envmap --test materials --test motion_blur
         --test motion_box --test motion_keyframes --test aovs --test shutter_time
@@ -38,6 +41,7 @@ aov)
     files=(-f src/integrator/aov.rs)
     tests=(--lib --test aovs --test motion_keyframes) ;;
 light)
+    export NEXTEST_PROFILE=mutants-lights
     files=(-f src/light.rs -f 'src/light/**')
     tests=(--lib "${render[@]}" --test envmap --test light_sampling_chi2
         --test textures --test motion_keyframes) ;;
