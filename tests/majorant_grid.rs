@@ -297,3 +297,47 @@ fn a_brick_above_a_positive_grid_corner_reaches_its_cells() {
     let lo = Vec3::new(-(CELL as f32), 10.0, -(CELL as f32));
     assert_none(&violations(&grid, lo, b0, b1));
 }
+
+/// With cell faces half-way between voxel centres a cell's support is
+/// cell + 2 voxels, one beyond each face and no more: a spike on the first or
+/// last voxel of it raises the cell, a spike one voxel further leaves it at 0.
+#[test]
+fn half_voxel_cells_reach_exactly_one_voxel_beyond_each_face() {
+    let base = ORIGIN + IVec3::splat(4);
+    let lo = base.as_vec3() + 0.5;
+    // cell (0, 1, 1) spans x ∈ [base + 0.5, base + 8.5): support x ∈ [base, base + 9]
+    let mid = base + IVec3::new(0, CELL + 3, CELL + 3);
+    for (dx, reaches) in [(-1, false), (0, true), (CELL + 1, true), (CELL + 2, false)] {
+        let spike = mid + IVec3::new(dx, 0, 0);
+        let grid = box_grid(spike, spike, 0.0, 1.0);
+        let m = MajorantGrid::build(&grid, lo, lo + (3 * CELL) as f32, Vec3::splat(CELL as f32));
+        let (_, max) = m.bounds(IVec3::new(0, 1, 1));
+        assert_eq!(
+            max > 0.0,
+            reaches,
+            "spike at x = base {dx:+}: cell max {max}"
+        );
+    }
+}
+
+/// Grid media put their majorant cells' faces half-way between voxel centres.
+#[test]
+fn grid_media_align_cells_to_half_voxels() {
+    use brume::color::Rgb;
+    use brume::math::Affine3A;
+    use brume::medium::{GridEmission, GridMedium, GridMediumParams, PhaseFunction};
+    let grid = box_grid(ORIGIN + 3, ORIGIN + 9, 0.0, 1.0);
+    let params = GridMediumParams {
+        to_world: Affine3A::IDENTITY,
+        density_scale: 1.0,
+        sigma_t_scale: Rgb::WHITE,
+        albedo: Rgb::splat(0.8),
+        phase: PhaseFunction::Isotropic,
+        emission: GridEmission::None,
+        majorant: Default::default(),
+        cell_size: Some(4),
+    };
+    let medium = GridMedium::new(grid, params);
+    let (lo, _) = medium.majorant_grid().extent();
+    assert_eq!(lo - lo.floor(), Vec3::splat(0.5), "grid corner {lo}");
+}

@@ -247,13 +247,23 @@ impl GridMedium {
             ),
             MajorantMode::Global => extent.as_vec3(),
         };
+        // Cell faces half-way between voxel centres: the trilinear support of a
+        // cell is then cell + 2 voxels per axis, not cell + 3 (majorant_grid).
+        let (grid_lo, grid_hi) = (lo - 0.5, hi + 0.5);
         let (motion, (majorants, track_lo, track_hi)) = match &motion {
-            None => (None, (MajorantGrid::build(&density, lo, hi, cell), lo, hi)),
+            None => (
+                None,
+                (
+                    MajorantGrid::build(&density, grid_lo, grid_hi, cell),
+                    lo,
+                    hi,
+                ),
+            ),
             Some(m) => {
                 let (lookup, r) = MotionLookup::new(m, &params.to_world, &world_to_index);
                 let k = motion::dilation_cells(r, cell);
-                let grids = motion::dilated_majorants(&density, lo, hi, cell, k);
-                (Some(lookup), grids)
+                let (grid, pad) = motion::dilated_majorants(&density, grid_lo, grid_hi, cell, k);
+                (Some(lookup), (grid, lo - pad, hi + pad))
             }
         };
         let emission = match params.emission {

@@ -2,10 +2,19 @@
 //!
 //! Each cell holds the largest and smallest density that trilinear lookups
 //! can return anywhere in the cell: the bounds of the values stored in the
-//! voxels its trilinear support holds (the cell widened by one voxel on each
-//! side), taken per voxel in leaf bricks and per block for tiles and uniform
-//! leaves, plus the background value when that support is not entirely
-//! covered by bricks and tiles. Only the sparse leaves and tiles are read
+//! voxels its trilinear support holds, taken per voxel in leaf bricks and per
+//! block for tiles and uniform leaves, plus the background value when that
+//! support is not entirely covered by bricks and tiles.
+//!
+//! A lookup at p reads voxels ⌊p⌋ and ⌊p⌋ + 1 per axis, and a lookup meant
+//! for a cell may land a little outside it (f32 segment ends, the world →
+//! index map), so the support of a cell [a, b) is the voxels from
+//! ⌊a − r⌋ to ⌊b + r⌋ + 1 with r = [`ROUNDING_REACH`]. With cell faces on
+//! voxel centres (integer a) that is the cell widened by one voxel below and
+//! by one above (cell + 3 voxels per axis); with faces half-way between
+//! voxel centres, as grid media place them, the reach adds no voxel and the
+//! support is cell + 2 voxels: per axis 6 instead of 7 for 4-voxel cells, a
+//! tighter bound and fewer null collisions. Only the sparse leaves and tiles are read
 //! (`FloatGrid::blocks`), never a dense array of the bounding box. A trilinear
 //! value is a convex combination of its eight corner voxels, so it lies
 //! between these bounds; the bounds are then widened by a relative 2⁻²⁰ to
@@ -17,6 +26,11 @@ use crate::volume::FloatGrid;
 
 /// Relative widening of the cell bounds, covering rounding in trilinear lookups.
 const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
+
+/// How far (voxels) outside its cell a lookup meant for the cell may land
+/// and still be bounded by it (below ½, so that half-voxel-aligned cells
+/// need no extra voxel).
+pub const ROUNDING_REACH: f32 = 0.375;
 
 /// ⌊a / b⌋ per component (b > 0).
 fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
@@ -50,7 +64,7 @@ pub struct MajorantGrid {
 impl MajorantGrid {
     /// Bounds of `grid`'s (clamped to ≥ 0) density over the index box `[lo, hi]`, in cells of `cell` voxels.
     ///
-    /// `cell` equal to the box extent gives one global bound.
+    /// `cell` holds whole numbers of voxels; equal to the box extent it gives one global bound.
     pub fn build(grid: &FloatGrid, lo: Vec3, hi: Vec3, cell: Vec3) -> MajorantGrid {
         let dims = ((hi - lo) / cell).ceil().as_ivec3().max(IVec3::ONE);
         let n = (dims.x * dims.y * dims.z) as usize;
@@ -58,24 +72,19 @@ impl MajorantGrid {
         let mut min = vec![f32::INFINITY; n];
         let mut covered = vec![0u64; n];
         let cell_i = cell.ceil().as_ivec3();
-        let lo_i = lo.floor().as_ivec3();
-        // Integer voxel support of cell c: [support_lo(c), support_lo(c) + span) per axis.
-        let support_lo = |c: IVec3| (lo + c.as_vec3() * cell).floor().as_ivec3() - IVec3::ONE;
-        let span = cell_i + IVec3::splat(3);
+        // Voxel support of cell c: [first + c·cell, first + c·cell + span) per axis
+        // (module doc), the same span for every cell as cells are whole voxels.
+        let first = (lo - ROUNDING_REACH).floor().as_ivec3();
+        let span = (lo + ROUNDING_REACH).floor().as_ivec3() - first + cell_i + IVec3::splat(2);
+        let support_lo = |c: IVec3| first + c * cell_i;
         let support_volume = span.as_i64vec3().element_product() as u64;
         for block in grid.blocks() {
             let b_lo = block.min;
             let b_hi = block.min + IVec3::splat(block.size - 1);
             let per_voxel = block.size == 8 && block.min_value != block.max_value;
-            // Cells whose support [floor(lo + c·cell) - 1, … + cell + 2) meets the block.
-            let c_lo = ((b_lo - lo_i - cell_i - IVec3::splat(2)).as_vec3() / cell)
-                .floor()
-                .as_ivec3()
-                .max(IVec3::ZERO);
-            let c_hi = ((b_hi - lo_i + IVec3::splat(2)).as_vec3() / cell)
-                .floor()
-                .as_ivec3()
-                .min(dims - IVec3::ONE);
+            // Cells whose support meets the block.
+            let c_lo = div_floor(b_lo - first - span + IVec3::ONE, cell_i).max(IVec3::ZERO);
+            let c_hi = div_floor(b_hi - first, cell_i).min(dims - IVec3::ONE);
             for z in c_lo.z..=c_hi.z {
                 for y in c_lo.y..=c_hi.y {
                     for x in c_lo.x..=c_hi.x {
@@ -102,9 +111,9 @@ impl MajorantGrid {
                 for v in 0..512 {
                     let ijk = b_lo + IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
                     let value = grid.value(ijk);
-                    let rel = ijk - lo_i;
-                    let c0 = div_ceil(rel - cell_i - IVec3::ONE, cell_i).max(IVec3::ZERO);
-                    let c1 = div_floor(rel + IVec3::ONE, cell_i).min(dims - IVec3::ONE);
+                    let rel = ijk - first;
+                    let c0 = div_ceil(rel - span + IVec3::ONE, cell_i).max(IVec3::ZERO);
+                    let c1 = div_floor(rel, cell_i).min(dims - IVec3::ONE);
                     for z in c0.z..=c1.z {
                         for y in c0.y..=c1.y {
                             for x in c0.x..=c1.x {

@@ -146,16 +146,16 @@ pub(crate) fn dilation_cells(r: Vec3, cell: Vec3) -> IVec3 {
     (r / cell).ceil().as_ivec3()
 }
 
-/// The static majorant grid over the tracked box, dilated to cover the shutter.
+/// The static majorant grid over the box `[lo, hi]` widened by `k` cells,
+/// dilated to cover the shutter, and that widening (index units).
 pub(crate) fn dilated_majorants(
     density: &FloatGrid,
     lo: Vec3,
     hi: Vec3,
     cell: Vec3,
     k: IVec3,
-) -> (MajorantGrid, Vec3, Vec3) {
+) -> (MajorantGrid, Vec3) {
     let pad = k.as_vec3() * cell;
-    let (track_lo, track_hi) = (lo - pad, hi + pad);
-    let grid = MajorantGrid::build(density, track_lo, track_hi, cell).dilated(k, (lo, hi));
-    (grid, track_lo, track_hi)
+    let grid = MajorantGrid::build(density, lo - pad, hi + pad, cell).dilated(k, (lo, hi));
+    (grid, pad)
 }
