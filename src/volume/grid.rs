@@ -463,10 +463,19 @@ impl FloatGrid {
         }
         let p = p.clamp(Vec3::splat(-1.0e9), Vec3::splat(1.0e9));
         let i = floor_i32(p);
-        if (i & 7).cmpeq(IVec3::splat(7)).any() {
-            return self.trilinear_index_f64(p.as_dvec3());
-        }
         let w = p.as_dvec3() - i.as_dvec3();
+        if (i & 7).cmpeq(IVec3::splat(7)).any() {
+            // Corners in two or more bricks: the same weights and lerps over a gather.
+            let v = self.corners_across_bricks(i);
+            let yz = |o: usize| {
+                lerp(
+                    lerp(v[o], v[o + 1], w.z),
+                    lerp(v[o + 2], v[o + 3], w.z),
+                    w.y,
+                )
+            };
+            return lerp(yz(0), yz(4), w.x);
+        }
         match self.brick(i >> 3i32) {
             Some(e) if e & TILE_FLAG == 0 => {
                 let base = e as usize * LEAF_VOXELS + leaf_offset(i);
@@ -490,6 +499,40 @@ impl FloatGrid {
                 lerp(c, c, w.x)
             }
         }
+    }
+
+    /// The eight corner values of voxel cell `i` when they span several bricks
+    /// (`i` on the last voxel of its brick along some axis), each brick
+    /// resolved once: two table lookups when one axis crosses, four or eight
+    /// when more do (at index `4·dx + 2·dy + dz`, as [`Self::corners`]).
+    #[inline]
+    fn corners_across_bricks(&self, i: IVec3) -> [f32; 8] {
+        let b = i >> 3i32;
+        let cross = IVec3::select((i & 7).cmpeq(IVec3::splat(7)), IVec3::ONE, IVec3::ZERO);
+        // Per touched brick (index 4·x + 2·y + z of its offset): a leaf's value base, or a constant.
+        let mut base = [usize::MAX; 8];
+        let mut constant = [0.0f32; 8];
+        for z in 0..=cross.z {
+            for y in 0..=cross.y {
+                for x in 0..=cross.x {
+                    let k = (4 * x + 2 * y + z) as usize;
+                    let brick = b + IVec3::new(x, y, z);
+                    match self.brick(brick) {
+                        Some(e) if e & TILE_FLAG == 0 => base[k] = e as usize * LEAF_VOXELS,
+                        Some(e) => constant[k] = self.tiles[(e & !TILE_FLAG) as usize].value,
+                        None => constant[k] = self.coarse_value(brick << 3i32),
+                    }
+                }
+            }
+        }
+        std::array::from_fn(|n| {
+            let d = IVec3::new(n as i32 >> 2, (n as i32 >> 1) & 1, n as i32 & 1);
+            let k = ((d & cross) * IVec3::new(4, 2, 1)).element_sum() as usize;
+            match base[k] {
+                usize::MAX => constant[k],
+                start => self.leaf_values[start + leaf_offset(i + d)],
+            }
+        })
     }
 
     /// The eight stored values around voxel cell `i` (corners `i + (dx, dy, dz)`,
