@@ -32,7 +32,7 @@
 
 use crate::color::Rgb;
 use crate::math::Ray;
-use crate::medium::{MajorantIter, MajorantSegment, Medium, MediumProperties};
+use crate::medium::{HomogeneousMedium, MajorantIter, MajorantSegment, Medium, MediumProperties};
 use crate::sampling::Sampler;
 use kernel::{dispatch, TrackedMedium};
 use stats::Tally;
@@ -425,10 +425,14 @@ pub fn sample_free_flight(
 ) -> FreeFlight {
     if let [medium] = media {
         // One medium (the common case): no earliest-collision search, no tracker array.
-        if let Medium::Grid(g) = medium {
-            if g.may_walk_exactly(ray, true) {
+        match medium {
+            Medium::Grid(g) if g.may_walk_exactly(ray, true) => {
                 return exact::grid_free_flight(g, ray, t_max, throughput, radiance, sampler);
             }
+            Medium::Homogeneous(h) if h.sigma_t().min_channel() == h.sigma_t().max_channel() => {
+                return homogeneous_free_flight(h, ray, t_max, throughput, radiance, sampler);
+            }
+            _ => {}
         }
         let tracker = Tracker::new(medium, ray, t_max);
         return dispatch!(medium, m => {
@@ -484,6 +488,66 @@ pub fn sample_free_flight(
             },
         }
     }
+}
+
+/// Free-flight sampling through one homogeneous medium of grey extinction:
+/// the tentative-collision process of its one majorant segment (σ̄ = σt,
+/// over the region's interval) without a tracker, the same random numbers
+/// and arithmetic as [`Tracker::next`] and [`free_flight_one`] take.
+///
+/// Every collision inside the region is real (σ̄ − σt = 0), so a flight
+/// costs one exponential step; a collision that rounding puts just outside
+/// the region is null and the flight goes on, as in the general loop.
+fn homogeneous_free_flight(
+    medium: &HomogeneousMedium,
+    ray: &Ray,
+    t_max: f32,
+    throughput: &mut Rgb,
+    radiance: &mut Rgb,
+    sampler: &mut Sampler,
+) -> FreeFlight {
+    let seg = medium.majorant(ray, t_max);
+    let mut tally = Tally::default();
+    let mut t = seg.map_or(0.0, |s| s.t0);
+    for _ in 0..MAX_TENTATIVE_COLLISIONS {
+        // The tracker draws its exponential target before it looks for a segment.
+        let tau = -(1.0 - sampler.next_1d()).ln();
+        let Some(seg) = seg else {
+            return FreeFlight::Passed;
+        };
+        let (sigma, length) = (seg.sigma_maj, seg.t1 - t);
+        let dt = tau / sigma;
+        if !(sigma > 0.0 && length > 0.0 && dt < length) {
+            return FreeFlight::Passed;
+        }
+        t = advance(t, t + dt).min(seg.t1);
+        if t >= t_max {
+            return FreeFlight::Passed;
+        }
+        let collision = Collision {
+            t,
+            sigma_maj: sigma,
+            sigma_control: seg.sigma_control,
+        };
+        let props = medium.properties(ray.at(t));
+        match collide(
+            &props, &collision, throughput, radiance, sampler, &mut tally,
+        ) {
+            Step::Scatter => {
+                return FreeFlight::Scatter {
+                    t,
+                    medium: 0,
+                    properties: props,
+                }
+            }
+            Step::Absorbed => return FreeFlight::Absorbed,
+            Step::Inert => return FreeFlight::Passed,
+            Step::Null => {}
+        }
+    }
+    CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+    *throughput = Rgb::BLACK;
+    FreeFlight::Absorbed
 }
 
 /// Free-flight sampling through a single medium.
@@ -618,4 +682,66 @@ fn scaled_majorant_tracking(
         });
     }
     tr
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Affine3A, Bounds3, Quat, Vec3};
+    use crate::medium::{PhaseFunction, Region};
+
+    /// The homogeneous fast path takes the same random numbers and gives the
+    /// same outcome, to the bit, as the general tracker loop, for rays that
+    /// start outside, inside and beyond the medium, with absorption, emission
+    /// and a surface cutting the flight short.
+    #[test]
+    fn homogeneous_fast_path_matches_the_tracker_loop() {
+        let medium = HomogeneousMedium {
+            sigma_a: Rgb::splat(0.3),
+            sigma_s: Rgb::splat(0.9),
+            emission: Rgb::new(0.2, 0.5, 0.1),
+            phase: PhaseFunction::Isotropic,
+            region: Region::Box {
+                world_to_local: Affine3A::from_rotation_translation(
+                    Quat::from_rotation_y(0.4),
+                    Vec3::new(0.3, -0.2, 0.1),
+                ),
+                local: Bounds3::new(Vec3::splat(-1.0), Vec3::new(1.0, 2.0, 1.5)),
+            },
+        };
+        let wrapped = Medium::Homogeneous(medium.clone());
+        let mut rng = crate::sampling::Sampler::from_seed(3);
+        let mut scatters = 0;
+        for i in 0..20_000u64 {
+            let o = Vec3::new(rng.next_1d(), rng.next_1d(), rng.next_1d()) * 6.0 - 3.0;
+            let d = crate::sampling::warp::square_to_uniform_sphere(rng.next_2d());
+            let ray = Ray::new(o, d);
+            let t_max = if i % 3 == 0 { 1.5 } else { f32::INFINITY };
+            let run = |fast: bool| {
+                let mut sampler = crate::sampling::Sampler::from_seed(100 + i);
+                let (mut tp, mut l) = (Rgb::splat(0.7), Rgb::BLACK);
+                let out = if fast {
+                    homogeneous_free_flight(&medium, &ray, t_max, &mut tp, &mut l, &mut sampler)
+                } else {
+                    let tracker = Tracker::new(&wrapped, &ray, t_max);
+                    free_flight_one(&medium, tracker, &ray, t_max, &mut tp, &mut l, &mut sampler)
+                };
+                let key = match out {
+                    FreeFlight::Scatter { t, .. } => (0, t.to_bits()),
+                    FreeFlight::Passed => (1, 0),
+                    FreeFlight::Absorbed => (2, 0),
+                };
+                (
+                    key,
+                    tp.to_array().map(f32::to_bits),
+                    l.to_array().map(f32::to_bits),
+                    sampler.next_1d().to_bits(),
+                )
+            };
+            let fast = run(true);
+            assert_eq!(fast, run(false), "ray {i}");
+            scatters += (fast.0 .0 == 0) as u32;
+        }
+        assert!(scatters > 2_000, "{scatters} scatterings");
+    }
 }
