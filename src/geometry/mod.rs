@@ -17,6 +17,14 @@ use obvhs::BvhBuildParams;
 /// Smallest ray parameter accepted as a hit, relative to the scene scale.
 const T_MIN: f32 = 0.0;
 
+/// Up to this many primitives a scene has no BVH: a ray tests each one, as
+/// a walk's root and child box tests would cost more.
+const BRUTE_FORCE_PRIMITIVES: usize = 4;
+
+/// At most this many primitives spanning half the scene or more (a ground
+/// plane) stay out of the BVH and are tested by every ray first.
+const MAX_LOOSE_PRIMITIVES: usize = 2;
+
 /// The closest surface point found along a ray.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceHit {
@@ -42,7 +50,10 @@ pub struct Geometry {
     primitive_shape: Vec<u32>,
     /// Per-corner texture coordinates of each primitive (same order), or empty when no mesh has any.
     texcoords: Vec<[Vec2; 3]>,
+    /// The BVH over `primitives[..in_bvh]`.
     bvh: Option<Bvh2>,
+    /// Primitives in the BVH; those after them are tested by every ray (see `split_loose`).
+    in_bvh: usize,
     /// Levels of the BVH, which bounds the traversal stack.
     depth: usize,
     bounds: Bounds3,
@@ -71,39 +82,34 @@ impl Geometry {
     /// (used by triangles; empty for none, else one entry per item).
     pub fn with_texcoords(items: Vec<(Primitive, u32)>, texcoords: Vec<[Vec2; 3]>) -> Geometry {
         assert!(texcoords.is_empty() || texcoords.len() == items.len());
-        let boxes: Vec<Boxed> = items.iter().map(|(p, _)| Boxed(p.bounds())).collect();
-        let bounds = boxes.iter().fold(Bounds3::EMPTY, |acc, b| acc.union(&b.0));
-        if items.is_empty() {
-            return Geometry {
-                primitives: Vec::new(),
-                primitive_shape: Vec::new(),
-                texcoords: Vec::new(),
-                bvh: None,
-                depth: 0,
-                bounds,
-                moving: None,
-            };
-        }
-        let mut build_time = std::time::Duration::ZERO;
-        let bvh = build_bvh2(&boxes, BvhBuildParams::medium_build(), &mut build_time);
-        // Reorder so that BVH leaf ranges index our arrays directly.
-        let (primitives, primitive_shape) = bvh
-            .primitive_indices
+        let bounds = items
             .iter()
-            .map(|&i| items[i as usize])
-            .unzip();
+            .fold(Bounds3::EMPTY, |acc, (p, _)| acc.union(&p.bounds()));
+        let (tree, loose) = split_loose(&items, &bounds);
+        let (bvh, order) = if tree.is_empty() {
+            (None, loose)
+        } else {
+            let boxes: Vec<Boxed> = tree.iter().map(|&i| Boxed(items[i].0.bounds())).collect();
+            let mut build_time = std::time::Duration::ZERO;
+            let bvh = build_bvh2(&boxes, BvhBuildParams::medium_build(), &mut build_time);
+            // BVH leaf ranges index the primitives directly; the loose ones follow.
+            let order = bvh.primitive_indices.iter().map(|&i| tree[i as usize]);
+            let order = order.chain(loose).collect();
+            (Some(bvh), order)
+        };
+        let (primitives, primitive_shape) = order.iter().map(|&i| items[i]).unzip();
         let texcoords = if texcoords.is_empty() {
             texcoords
         } else {
-            let order = bvh.primitive_indices.iter();
-            order.map(|&i| texcoords[i as usize]).collect()
+            order.iter().map(|&i| texcoords[i]).collect()
         };
         Geometry {
             primitives,
             primitive_shape,
             texcoords,
-            depth: tree_depth(&bvh),
-            bvh: Some(bvh),
+            in_bvh: tree.len(),
+            depth: bvh.as_ref().map_or(0, tree_depth),
+            bvh,
             bounds,
             moving: None,
         }
@@ -169,38 +175,52 @@ impl Geometry {
     }
 
     fn intersect_still(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
-        let bvh = self.bvh.as_ref()?;
-        let bvh_ray = BvhRay::new(ray.origin.into(), ray.direction.into(), T_MIN, t_max);
-        let mut hit = RayHit::none();
-        let mut best: Option<PrimitiveHit> = None;
-        // The traversal shrinks `r.tmax` to every accepted hit, so each one is
-        // closer than the last and the last one recorded is the closest.
-        self.traverse(bvh, bvh_ray, &mut hit, |node, r, hit| {
-            for id in node.first_index..node.first_index + node.prim_count {
-                if let Some(h) = self.primitives[id as usize].intersect(ray, T_MIN, r.tmax) {
-                    if h.t < r.tmax {
-                        best = Some(h);
-                        hit.primitive_id = id;
-                        r.tmax = h.t;
-                    }
+        let mut best: Option<(PrimitiveHit, u32)> = None;
+        let mut t_best = t_max;
+        // Loose primitives first: a hit on the ground prunes the walk.
+        for (id, p) in self.primitives.iter().enumerate().skip(self.in_bvh) {
+            if let Some(h) = p.intersect(ray, T_MIN, t_best) {
+                if h.t < t_best {
+                    t_best = h.t;
+                    best = Some((h, id as u32));
                 }
             }
-            true
-        });
-        let h = best?;
+        }
+        if let Some(bvh) = &self.bvh {
+            let bvh_ray = BvhRay::new(ray.origin.into(), ray.direction.into(), T_MIN, t_best);
+            // The traversal shrinks `r.tmax` to every accepted hit, so each one is
+            // closer than the last and the last one recorded is the closest.
+            self.traverse(bvh, bvh_ray, &mut RayHit::none(), |node, r, _| {
+                for id in node.first_index..node.first_index + node.prim_count {
+                    if let Some(h) = self.primitives[id as usize].intersect(ray, T_MIN, r.tmax) {
+                        if h.t < r.tmax {
+                            best = Some((h, id));
+                            r.tmax = h.t;
+                        }
+                    }
+                }
+                true
+            });
+        }
+        let (h, id) = best?;
         Some(SurfaceHit {
             t: h.t,
             p: ray.at(h.t),
             geometric_normal: h.geometric_normal,
             shading_normal: h.shading_normal,
-            primitive: hit.primitive_id,
-            shape: self.primitive_shape[hit.primitive_id as usize],
+            primitive: id,
+            shape: self.primitive_shape[id as usize],
             st: h.st,
         })
     }
 
     /// Calls `hit(t, geometric_normal)` for every primitive the ray meets in `(0, t_max)`, in no order.
     pub fn for_each_hit(&self, ray: &Ray, t_max: f32, mut hit: impl FnMut(f32, Vec3)) {
+        for p in &self.primitives[self.in_bvh..] {
+            if let Some(h) = p.intersect(ray, T_MIN, t_max) {
+                hit(h.t, h.geometric_normal);
+            }
+        }
         let Some(bvh) = self.bvh.as_ref() else {
             return;
         };
@@ -219,6 +239,13 @@ impl Geometry {
     }
 
     fn occluded_still(&self, ray: &Ray, t_max: f32) -> bool {
+        let loose = &self.primitives[self.in_bvh..];
+        if loose
+            .iter()
+            .any(|p| p.intersect(ray, T_MIN, t_max).is_some_and(|h| h.t < t_max))
+        {
+            return true;
+        }
         let Some(bvh) = self.bvh.as_ref() else {
             return false;
         };
@@ -264,6 +291,36 @@ impl Geometry {
     }
 }
 
+/// Which items go into the BVH and which are tested by every ray ("loose"),
+/// as indices into `items`.
+///
+/// With at most [`BRUTE_FORCE_PRIMITIVES`] items all are loose. Otherwise the
+/// [`MAX_LOOSE_PRIMITIVES`] largest whose box spans half the scene's diagonal
+/// or more are: a ground plane's box holds the whole scene, so every ray
+/// would enter it and the boxes above it in the tree; tested first, it
+/// shortens the ray before the walk instead.
+fn split_loose(items: &[(Primitive, u32)], scene: &Bounds3) -> (Vec<usize>, Vec<usize>) {
+    if items.len() <= BRUTE_FORCE_PRIMITIVES {
+        return (Vec::new(), (0..items.len()).collect());
+    }
+    let diagonal = |b: &Bounds3| (b.max - b.min).length();
+    let half = 0.5 * diagonal(scene);
+    let mut large: Vec<(f32, usize)> = items
+        .iter()
+        .enumerate()
+        .map(|(i, (p, _))| (diagonal(&p.bounds()), i))
+        .filter(|&(d, _)| d >= half)
+        .collect();
+    large.sort_by(|a, b| b.0.total_cmp(&a.0));
+    large.truncate(MAX_LOOSE_PRIMITIVES);
+    let mut loose: Vec<usize> = large.into_iter().map(|(_, i)| i).collect();
+    loose.sort_unstable();
+    let tree = (0..items.len())
+        .filter(|i| loose.binary_search(i).is_err())
+        .collect();
+    (tree, loose)
+}
+
 /// Number of node levels of `bvh` (a lone leaf root is 1): a traversal holds
 /// at most one pending node per level.
 fn tree_depth(bvh: &Bvh2) -> usize {
@@ -286,6 +343,52 @@ fn tree_depth(bvh: &Bvh2) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Loose primitives (a ground plane), the BVH and the no-BVH path for a
+    /// few primitives all find what testing every primitive finds: the same
+    /// closest hit (primitive, t) and the same occlusion, for random rays.
+    #[test]
+    fn loose_and_few_primitives_find_the_closest_hit() {
+        let ground = Primitive::Parallelogram {
+            corner: Vec3::new(-50.0, 0.0, -50.0),
+            edge_u: Vec3::new(100.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 0.0, 100.0),
+        };
+        for count in [0usize, 3, 40] {
+            let mut items = vec![(ground, 0)];
+            for i in 0..count {
+                let a = i as f32 * 0.7;
+                let center = Vec3::new(5.0 * a.cos(), 0.5 + 0.2 * i as f32, 5.0 * a.sin());
+                items.push((
+                    Primitive::Sphere {
+                        center,
+                        radius: 0.4,
+                    },
+                    i as u32 + 1,
+                ));
+            }
+            let geometry = Geometry::new(items.clone());
+            assert_eq!(geometry.primitives().len(), items.len());
+            let mut rng = crate::sampling::Sampler::from_seed(9);
+            for _ in 0..4000 {
+                let o = Vec3::new(rng.next_1d(), rng.next_1d(), rng.next_1d()) * 16.0 - 8.0;
+                let d = crate::sampling::warp::square_to_uniform_sphere(rng.next_2d());
+                let ray = Ray::new(o + Vec3::Y * 8.0, d);
+                let t_max = if rng.next_1d() < 0.5 {
+                    6.0
+                } else {
+                    f32::INFINITY
+                };
+                let brute = items
+                    .iter()
+                    .filter_map(|(p, shape)| p.intersect(&ray, 0.0, t_max).map(|h| (h.t, *shape)))
+                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                let found = geometry.intersect(&ray, t_max).map(|h| (h.t, h.shape));
+                assert_eq!(found, brute, "{count} spheres, ray {ray:?}");
+                assert_eq!(geometry.occluded(&ray, t_max), brute.is_some());
+            }
+        }
+    }
 
     #[test]
     fn bvh_finds_closest_of_many_spheres() {

@@ -462,6 +462,9 @@ pub fn build_frame(
     media.extend(interiors);
 
     let light_pick = light_pick(&lights, &geometry, &camera);
+    // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
+    let mut settings = settings;
+    settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
     let scene = Scene {
         camera,
         geometry,
