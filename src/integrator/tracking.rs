@@ -148,6 +148,8 @@ impl<'a> Tracker<'a> {
             return None;
         }
         self.steps += 1;
+        // A ray past its last segment draws nothing.
+        self.current?;
         let mut tau = -(1.0 - sampler.next_1d()).ln();
         loop {
             let seg = self.current?;
@@ -506,15 +508,13 @@ fn homogeneous_free_flight(
     radiance: &mut Rgb,
     sampler: &mut Sampler,
 ) -> FreeFlight {
-    let seg = medium.majorant(ray, t_max);
+    let Some(seg) = medium.majorant(ray, t_max) else {
+        return FreeFlight::Passed;
+    };
     let mut tally = Tally::default();
-    let mut t = seg.map_or(0.0, |s| s.t0);
+    let mut t = seg.t0;
     for _ in 0..MAX_TENTATIVE_COLLISIONS {
-        // The tracker draws its exponential target before it looks for a segment.
         let tau = -(1.0 - sampler.next_1d()).ln();
-        let Some(seg) = seg else {
-            return FreeFlight::Passed;
-        };
         let (sigma, length) = (seg.sigma_maj, seg.t1 - t);
         let dt = tau / sigma;
         if !(sigma > 0.0 && length > 0.0 && dt < length) {
