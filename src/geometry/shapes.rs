@@ -31,6 +31,64 @@ pub enum Primitive {
     },
 }
 
+/// A parallelogram's ray test with what it can compute once: the plane's
+/// normal and the dual edge vectors that give the surface parameters as dot
+/// products (s = d·dual_u, t = d·dual_v for d = p − corner in the plane).
+#[derive(Clone, Copy, Debug)]
+pub struct QuadTest {
+    corner: Vec3,
+    /// edge_u × edge_v (not normalized).
+    normal: Vec3,
+    unit_normal: Vec3,
+    dual_u: Vec3,
+    dual_v: Vec3,
+}
+
+impl QuadTest {
+    /// The test for parallelogram `corner + s·edge_u + t·edge_v`.
+    pub fn new(corner: Vec3, edge_u: Vec3, edge_v: Vec3) -> QuadTest {
+        let (uu, vv, uv) = (
+            edge_u.length_squared(),
+            edge_v.length_squared(),
+            edge_u.dot(edge_v),
+        );
+        let det = uu * vv - uv * uv;
+        let normal = edge_u.cross(edge_v);
+        QuadTest {
+            corner,
+            normal,
+            unit_normal: normal.normalize(),
+            dual_u: (edge_u * vv - edge_v * uv) / det,
+            dual_v: (edge_v * uu - edge_u * uv) / det,
+        }
+    }
+
+    /// The hit with parameter in `(t_min, t_max)`, as [`Primitive::intersect`] finds it.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<PrimitiveHit> {
+        let denom = self.normal.dot(ray.direction);
+        if denom == 0.0 {
+            return None;
+        }
+        let t = self.normal.dot(self.corner - ray.origin) / denom;
+        if !(t > t_min && t < t_max) {
+            return None;
+        }
+        let d = ray.at(t) - self.corner;
+        let s = d.dot(self.dual_u);
+        let r = d.dot(self.dual_v);
+        if !(0.0..=1.0).contains(&s) || !(0.0..=1.0).contains(&r) {
+            return None;
+        }
+        Some(PrimitiveHit {
+            t,
+            geometric_normal: self.unit_normal,
+            shading_normal: self.unit_normal,
+            st: Vec2::new(s, r),
+        })
+    }
+}
+
 /// Where and how a ray met a primitive.
 #[derive(Clone, Copy, Debug)]
 pub struct PrimitiveHit {
