@@ -356,6 +356,12 @@ impl Group<'_> {
             .collect();
         let stats = passes
             .par_chunks_mut(self.w)
+            // Rayon otherwise splits the rows into a few large blocks only
+            // (one level per thread) and a thread that finishes its block
+            // early finds nothing left to steal: the last pass of a group
+            // is often shorter, so its block is cheaper (B4 at 87 spp: 1.80×
+            // on two threads, 1.97× with small blocks).
+            .with_max_len(4)
             .enumerate()
             .map(|(item, row)| {
                 let (k, y) = (item / self.h, item % self.h);
