@@ -83,11 +83,19 @@ impl PhaseFunction {
 
     /// Draws an outgoing propagation direction for incoming `dir_in` from uniform `u` in [0, 1)².
     ///
-    /// `u.x` picks cos θ (and, for double HG, first the lobe), `u.y` the azimuth.
+    /// `u.x` picks cos θ (and, for double HG, first the lobe), `u.y` the azimuth;
+    /// isotropic scattering, the same in every frame, takes `u` as a uniform
+    /// direction in world space (no frame about `dir_in` to build).
     /// `None` only for parameters that fail `validate`.
     pub fn sample(&self, dir_in: Vec3, u: Vec2) -> Option<PhaseSample> {
         let (one_minus_cos, one_plus_cos) = match *self {
-            PhaseFunction::Isotropic => henyey_greenstein_cos(0.0, u.x),
+            PhaseFunction::Isotropic => {
+                return Some(PhaseSample {
+                    direction: crate::sampling::warp::square_to_uniform_sphere(u),
+                    pdf: INV_FOUR_PI,
+                    weight: 1.0,
+                })
+            }
             PhaseFunction::HenyeyGreenstein { g } => henyey_greenstein_cos(g, u.x),
             PhaseFunction::Rayleigh => rayleigh_cos(u.x),
             PhaseFunction::DoubleHenyeyGreenstein {
