@@ -548,3 +548,31 @@ impl Iterator for GridMajorants<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// About 32 cells along the longest axis, kept within 4..=32 voxels a cell.
+    #[test]
+    fn default_cells_span_a_thirty_second_of_the_volume() {
+        for (extent, cell) in [(73, 4), (200, 7), (640, 20), (1000, 32), (4000, 32), (8, 4)] {
+            assert_eq!(
+                default_cell_size(IVec3::new(extent, 5, extent / 2)),
+                cell,
+                "{extent}"
+            );
+        }
+    }
+
+    /// Dense media get cells of at most 8 expected null collisions at the
+    /// peak extinction, unless that would exceed the memory budget of 2²² cells.
+    #[test]
+    fn dense_cells_follow_the_peak_within_the_memory_budget() {
+        assert_eq!(dense_cell_size(2.0, IVec3::splat(100)), 4);
+        assert_eq!(dense_cell_size(0.0, IVec3::splat(100)), i32::MAX);
+        assert_eq!(dense_cell_size(100.0, IVec3::splat(100)), 1);
+        // 4096³ voxels in at most 2²² cells: cells of at least ∛16384 ≈ 25.4 voxels.
+        assert_eq!(dense_cell_size(100.0, IVec3::splat(4096)), 26);
+    }
+}

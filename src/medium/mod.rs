@@ -204,3 +204,6 @@ impl Medium {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
