@@ -308,6 +308,33 @@ mod tests {
     }
 
     #[test]
+    fn coefficients_and_closed_form_share_the_truncation() {
+        // σ = 1 at h0 = 0 with H = 1: the exponent at height y is exactly -y, and
+        // both sides compute e^x in f64 and round it to f32 once, so a horizontal
+        // ray of length 1 has the point's coefficient as its depth, to the bit.
+        let f = HeightFog {
+            sigma_a: Rgb::splat(1.0),
+            sigma_s: Rgb::BLACK,
+            height: 0.0,
+            scale_height: 1.0,
+            ..fog()
+        };
+        for y in [-31.0, -30.0, -29.5, 0.0, 39.5, 40.0, 41.0] {
+            let p = Vec3::new(3.0, y, -2.0);
+            let coefficient = f.properties(p).sigma_a.r;
+            let depth = f.relative_depth(&Ray::new(p, Vec3::X), 0.0, 1.0) as f32;
+            assert_eq!(coefficient, depth, "height {y}");
+            // Empty strictly above the top, e^-40 at it, e^30 from the bottom down.
+            let expected = if y > 40.0 {
+                0.0
+            } else {
+                (-y.max(-30.0) as f64).exp() as f32
+            };
+            assert_eq!(coefficient, expected, "height {y}");
+        }
+    }
+
+    #[test]
     fn visibility_gives_two_percent_contrast() {
         let s = sigma_t_from_visibility(1000.0);
         assert!(((-s * 1000.0).exp() - 0.02).abs() < 1e-6);
