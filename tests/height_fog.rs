@@ -134,7 +134,7 @@ fn truncated_tau(sigma0: f64, y0: f64, dy: f64, h0: f64, scale: f64, t: f64) -> 
 
 /// Rays through the heights where the density is truncated (40 scale heights
 /// above h0 it ends, 30 below it stops growing): closed-form optical depth and
-/// ratio-tracked transmittance against the truncated density. σt0 is tiny so
+/// ratio and residual ratio tracked transmittance against the truncated density. σt0 is tiny so
 /// that the capped density e^30·σt0 is of order 1 per metre. The horizontal
 /// rays have a direction with y = -0.0, whose slope is +0.0.
 #[test]
@@ -205,18 +205,24 @@ fn rays_through_the_truncation_heights_match_the_truncated_closed_form() {
                 want[c]
             );
         }
-        let mut acc = Accumulator::default();
-        let mut sampler = Sampler::from_seed(40 + i as u64);
-        for _ in 0..20_000 {
-            acc.add(medium_transmittance(
-                &medium,
-                &ray,
-                t_max,
-                TransmittanceEstimator::Ratio,
-                &mut sampler,
-            ));
+        for estimator in [
+            TransmittanceEstimator::Ratio,
+            TransmittanceEstimator::ResidualRatio,
+        ] {
+            let mut acc = Accumulator::default();
+            let mut sampler = Sampler::from_seed(40 + i as u64);
+            for _ in 0..20_000 {
+                acc.add(medium_transmittance(
+                    &medium,
+                    &ray,
+                    t_max,
+                    estimator,
+                    &mut sampler,
+                ));
+            }
+            let what = format!("{name} {estimator:?}");
+            assert_estimate(&acc.estimate(), want.map(|w| (-w).exp()), &what);
         }
-        assert_estimate(&acc.estimate(), want.map(|w| (-w).exp()), name);
     }
 }
 

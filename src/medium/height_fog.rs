@@ -335,6 +335,58 @@ mod tests {
     }
 
     #[test]
+    fn majorants_bound_the_density_within_their_headroom() {
+        // Rays through both truncation heights (40 scale heights above h0, 30 below)
+        // and horizontal ones in each part. Inside every segment the majorant is
+        // the max-channel density times MAJORANT_SLACK, up to the f32 rounding of
+        // the point and of exp along the segment (~1e-5, see MAJORANT_SLACK).
+        let f = HeightFog {
+            height: 0.0,
+            scale_height: 1.0,
+            ..fog()
+        };
+        let slope = Vec3::new(0.6, 0.8, 0.0);
+        for (o, d, t_max) in [
+            (Vec3::new(0.0, -35.0, 0.0), Vec3::Y, 80.0),
+            (Vec3::new(0.0, 45.0, 1.0), -slope, 110.0),
+            (Vec3::new(0.0, -31.0, 0.0), slope, f32::INFINITY),
+            (Vec3::new(0.0, -32.0, 0.0), Vec3::X, 5.0),
+            (Vec3::new(0.0, 10.0, 0.0), Vec3::X, 5.0),
+        ] {
+            let ray = Ray::new(o, d);
+            let segments: Vec<_> = f.majorants(&ray, t_max).collect();
+            assert!(!segments.is_empty(), "{ray:?}");
+            for seg in segments {
+                let end = seg.t1.min(seg.t0 + 100.0);
+                for i in 0..16 {
+                    let t = seg.t0 + (i as f32 + 0.5) / 16.0 * (end - seg.t0);
+                    let density = f.properties(ray.at(t));
+                    let local = density.sigma_a + density.sigma_s;
+                    let majorant = seg.majorant_at(t);
+                    let max = local.max_channel();
+                    assert!(
+                        max <= majorant && majorant <= MAJORANT_SLACK * max * (1.0 + 1e-4),
+                        "{ray:?} at t = {t}: majorant {majorant} for σt {local:?}"
+                    );
+                    // Below the bottom (y < -30) the control is the constant density;
+                    // elsewhere none is given (black). Both up to the rounding of
+                    // σa·k + σs·k against (σa + σs)·k.
+                    let below = ray.at(t).y < -30.0;
+                    for c in 0..3 {
+                        let (control, s) = (seg.sigma_control[c], local[c]);
+                        let want = if below { s } else { 0.0 };
+                        assert!(
+                            (control - want).abs() <= 1e-6 * s,
+                            "{ray:?} at t = {t}: control {:?} for σt {local:?}",
+                            seg.sigma_control
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
     fn visibility_gives_two_percent_contrast() {
         let s = sigma_t_from_visibility(1000.0);
         assert!(((-s * 1000.0).exp() - 0.02).abs() < 1e-6);
