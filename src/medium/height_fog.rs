@@ -387,6 +387,47 @@ mod tests {
     }
 
     #[test]
+    fn pieces_spanning_under_1e12_scale_heights_keep_their_depth() {
+        // Where the exponent changes by less than 1e-12 across a piece, the depth is
+        // e^x·length to far below f32 precision (the next term is x-span/2 relative).
+        let f = HeightFog {
+            height: 0.0,
+            scale_height: 1.0,
+            ..fog()
+        };
+        let (y, length) = (-3.0, 5.0);
+        let level = (3.0f64).exp();
+        let nearly_level = Ray::new(
+            Vec3::new(0.0, y, 0.0),
+            Vec3::new(1.0, 1e-13, 0.0).normalize(),
+        );
+        let got = f.relative_depth(&nearly_level, 0.0, length);
+        assert_eq!(got as f32, (level * length as f64) as f32);
+        let short = Ray::new(Vec3::new(0.0, y, 0.0), Vec3::new(0.6, -0.8, 0.0));
+        let got = f.relative_depth(&short, 0.0, 1e-12);
+        assert_eq!(got as f32, (level * 1e-12f32 as f64) as f32);
+    }
+
+    #[test]
+    fn fog_emits_only_with_emission_and_absorption() {
+        let glow = Rgb::new(0.0, 0.5, 2.0);
+        for (sigma_a, emission, emits) in [
+            (Rgb::splat(0.01), glow, true),
+            (Rgb::new(0.0, 0.0, 0.2), glow, true),
+            (Rgb::BLACK, glow, false),
+            (Rgb::splat(0.01), Rgb::BLACK, false),
+            (Rgb::BLACK, Rgb::BLACK, false),
+        ] {
+            let f = HeightFog {
+                sigma_a,
+                emission,
+                ..fog()
+            };
+            assert_eq!(f.is_emissive(), emits, "σa {sigma_a:?}, Le {emission:?}");
+        }
+    }
+
+    #[test]
     fn visibility_gives_two_percent_contrast() {
         let s = sigma_t_from_visibility(1000.0);
         assert!(((-s * 1000.0).exp() - 0.02).abs() < 1e-6);
