@@ -100,6 +100,132 @@ fn optical_depth_and_transmittance_match_closed_form() {
     }
 }
 
+/// ∫0^t σ0·ρ(x(s)) ds in f64 for the truncated density of the module doc:
+/// ρ = 0 more than 40 scale heights above h0, e^x in between, e^30 more than
+/// 30 scale heights below. Split at the crossings, each piece classified by
+/// its midpoint.
+fn truncated_tau(sigma0: f64, y0: f64, dy: f64, h0: f64, scale: f64, t: f64) -> f64 {
+    let x = |s: f64| -(y0 + s * dy - h0) / scale;
+    let mut cuts = vec![0.0, t];
+    if dy != 0.0 {
+        for y in [h0 + 40.0 * scale, h0 - 30.0 * scale] {
+            let s = (y - y0) / dy;
+            if s > 0.0 && s < t {
+                cuts.push(s);
+            }
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    let piece = |p: f64, q: f64| {
+        let mid = x(0.5 * (p + q));
+        if mid < -40.0 {
+            0.0
+        } else if mid > 30.0 {
+            30f64.exp() * (q - p)
+        } else if dy == 0.0 {
+            mid.exp() * (q - p)
+        } else {
+            // d/ds e^x(s) = -(dy/H)·e^x(s)
+            scale / dy * (x(p).exp() - x(q).exp())
+        }
+    };
+    sigma0 * cuts.windows(2).map(|w| piece(w[0], w[1])).sum::<f64>()
+}
+
+/// Rays through the heights where the density is truncated (40 scale heights
+/// above h0 it ends, 30 below it stops growing): closed-form optical depth and
+/// ratio and residual ratio tracked transmittance against the truncated density. σt0 is tiny so
+/// that the capped density e^30·σt0 is of order 1 per metre. The horizontal
+/// rays have a direction with y = -0.0, whose slope is +0.0.
+#[test]
+fn rays_through_the_truncation_heights_match_the_truncated_closed_form() {
+    let (h0, scale) = (0.0f32, 1.0f32);
+    let sigma_a = Rgb::new(4e-15, 1e-14, 0.0);
+    let sigma_s = Rgb::new(1e-14, 1e-14, 3e-14);
+    let medium = Medium::HeightFog(fog(sigma_a, sigma_s, h0, scale));
+    let sigma_t = sigma_a + sigma_s;
+    let cases = [
+        // (name, origin height, direction, t_max)
+        (
+            "up from below the bottom to above the top",
+            -35.0f32,
+            Vec3::Y,
+            80.0f32,
+        ),
+        (
+            "oblique down from above the top",
+            45.0,
+            Vec3::new(0.6, -0.8, 0.0),
+            110.0,
+        ),
+        (
+            "oblique up from the bottom",
+            -31.0,
+            Vec3::new(0.0, 0.6, 0.8),
+            100.0,
+        ),
+        (
+            "horizontal below the bottom",
+            -32.0,
+            Vec3::new(-0.6, -0.0, -0.8),
+            4.0,
+        ),
+        (
+            "horizontal in the slab",
+            -28.0,
+            Vec3::new(-0.6, -0.0, -0.8),
+            4.0,
+        ),
+        (
+            "horizontal above the top",
+            41.0,
+            Vec3::new(-0.6, -0.0, -0.8),
+            4.0,
+        ),
+    ];
+    for (i, (name, y0, d, t_max)) in cases.into_iter().enumerate() {
+        let ray = Ray::new(Vec3::new(4.0, y0, -1.0), d);
+        let got = medium.optical_depth(&ray, 0.0, t_max).expect("closed form");
+        let want: [f64; 3] = std::array::from_fn(|c| {
+            truncated_tau(
+                sigma_t[c] as f64,
+                y0 as f64,
+                d.y as f64,
+                0.0,
+                1.0,
+                t_max as f64,
+            )
+        });
+        for c in 0..3 {
+            // The closed form is f64 but its result and σt0 are f32: 1e-6 relative.
+            assert!(
+                (got[c] as f64 - want[c]).abs() <= 1e-6 * want[c],
+                "{name} channel {c}: {} vs {}",
+                got[c],
+                want[c]
+            );
+        }
+        for estimator in [
+            TransmittanceEstimator::Ratio,
+            TransmittanceEstimator::ResidualRatio,
+        ] {
+            let mut acc = Accumulator::default();
+            let mut sampler = Sampler::from_seed(40 + i as u64);
+            for _ in 0..20_000 {
+                acc.add(medium_transmittance(
+                    &medium,
+                    &ray,
+                    t_max,
+                    estimator,
+                    &mut sampler,
+                ));
+            }
+            let what = format!("{name} {estimator:?}");
+            assert_estimate(&acc.estimate(), want.map(|w| (-w).exp()), &what);
+        }
+    }
+}
+
 /// Ratio and residual ratio tracking over the fog's majorant pieces are unbiased (RGB fog: null collisions occur).
 #[test]
 fn tracked_transmittance_matches_closed_form() {

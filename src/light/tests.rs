@@ -374,3 +374,84 @@ fn powers_are_the_emitted_flux() {
         assert!((area.power(9.0) - PI * 6.0 * 0.5 * sides).abs() < 1e-4);
     }
 }
+
+/// Every light sample the estimator can receive has a finite, positive
+/// density and a unit direction (it divides by the density). The grid of u
+/// includes the edges of [0, 1)²: u = (0, ½) puts the cosine-weighted
+/// environment sample exactly in the surface's plane, where its density is 0.
+#[test]
+fn every_light_sample_has_a_positive_density() {
+    let top = 1.0 - f32::EPSILON / 2.0;
+    let quad = Primitive::Parallelogram {
+        corner: Vec3::new(-1.0, 2.0, -1.0),
+        edge_u: Vec3::Z * 2.0,
+        edge_v: Vec3::X * 2.0,
+    };
+    let ball = Primitive::Sphere {
+        center: Vec3::new(0.0, 0.0, 4.0),
+        radius: 1.0,
+    };
+    let geometry = Geometry::new(vec![(quad, 0), (ball, 1)]);
+    let white = || Texture::Constant(Rgb::WHITE);
+    let lights = [
+        Light::Point {
+            position: Vec3::new(0.5, 1.0, 0.0),
+            intensity: Rgb::WHITE,
+        },
+        Light::Spot {
+            position: Vec3::new(0.0, 3.0, 0.0),
+            axis: -Vec3::Y,
+            intensity: Rgb::WHITE,
+            cos_inner: 0.9,
+            cos_outer: 0.5,
+        },
+        Light::area(0, white(), false, &geometry),
+        Light::area(0, white(), true, &geometry),
+        Light::area(1, white(), false, &geometry),
+        Light::Sun {
+            to_sun: Vec3::new(0.3, 1.0, 0.2).normalize(),
+            irradiance: Rgb::WHITE,
+            cos_max: 0.99,
+        },
+        Light::Sun {
+            to_sun: Vec3::Y,
+            irradiance: Rgb::WHITE,
+            cos_max: 1.0,
+        },
+        Light::Environment(Environment::Constant {
+            radiance: Rgb::WHITE,
+        }),
+        Light::Environment(Environment::Sky {
+            zenith: Rgb::splat(2.0),
+            horizon: Rgb::WHITE,
+            ground: Rgb::splat(0.1),
+            up: Vec3::Y,
+        }),
+    ];
+    let normals = [
+        None,
+        Some(Vec3::Y),
+        Some(-Vec3::Z),
+        Some(Vec3::new(1.0, 1.0, -1.0).normalize()),
+    ];
+    let grid = [0.0, 0.25, 0.5, 0.75, top];
+    for (i, light) in lights.iter().enumerate() {
+        for normal in normals {
+            for ux in grid {
+                for uy in grid {
+                    let u = Vec2::new(ux, uy);
+                    let Some(ls) = light.sample_facing(Vec3::ZERO, normal, u, &geometry, 0.0)
+                    else {
+                        continue;
+                    };
+                    assert!(
+                        ls.pdf.is_finite() && ls.pdf > 0.0,
+                        "light {i}, normal {normal:?}, u = {u}: pdf {}",
+                        ls.pdf
+                    );
+                    assert!((ls.wi.length() - 1.0).abs() < 1e-5, "light {i}: {}", ls.wi);
+                }
+            }
+        }
+    }
+}

@@ -308,6 +308,126 @@ mod tests {
     }
 
     #[test]
+    fn coefficients_and_closed_form_share_the_truncation() {
+        // σ = 1 at h0 = 0 with H = 1: the exponent at height y is exactly -y, and
+        // both sides compute e^x in f64 and round it to f32 once, so a horizontal
+        // ray of length 1 has the point's coefficient as its depth, to the bit.
+        let f = HeightFog {
+            sigma_a: Rgb::splat(1.0),
+            sigma_s: Rgb::BLACK,
+            height: 0.0,
+            scale_height: 1.0,
+            ..fog()
+        };
+        for y in [-31.0, -30.0, -29.5, 0.0, 39.5, 40.0, 41.0] {
+            let p = Vec3::new(3.0, y, -2.0);
+            let coefficient = f.properties(p).sigma_a.r;
+            let depth = f.relative_depth(&Ray::new(p, Vec3::X), 0.0, 1.0) as f32;
+            assert_eq!(coefficient, depth, "height {y}");
+            // Empty strictly above the top, e^-40 at it, e^30 from the bottom down.
+            let expected = if y > 40.0 {
+                0.0
+            } else {
+                (-y.max(-30.0) as f64).exp() as f32
+            };
+            assert_eq!(coefficient, expected, "height {y}");
+        }
+    }
+
+    #[test]
+    fn majorants_bound_the_density_within_their_headroom() {
+        // Rays through both truncation heights (40 scale heights above h0, 30 below)
+        // and horizontal ones in each part. Inside every segment the majorant is
+        // the max-channel density times MAJORANT_SLACK, up to the f32 rounding of
+        // the point and of exp along the segment (~1e-5, see MAJORANT_SLACK).
+        let f = HeightFog {
+            height: 0.0,
+            scale_height: 1.0,
+            ..fog()
+        };
+        let slope = Vec3::new(0.6, 0.8, 0.0);
+        for (o, d, t_max) in [
+            (Vec3::new(0.0, -35.0, 0.0), Vec3::Y, 80.0),
+            (Vec3::new(0.0, 45.0, 1.0), -slope, 110.0),
+            (Vec3::new(0.0, -31.0, 0.0), slope, f32::INFINITY),
+            (Vec3::new(0.0, -32.0, 0.0), Vec3::X, 5.0),
+            (Vec3::new(0.0, 10.0, 0.0), Vec3::X, 5.0),
+        ] {
+            let ray = Ray::new(o, d);
+            let segments: Vec<_> = f.majorants(&ray, t_max).collect();
+            assert!(!segments.is_empty(), "{ray:?}");
+            for seg in segments {
+                let end = seg.t1.min(seg.t0 + 100.0);
+                for i in 0..16 {
+                    let t = seg.t0 + (i as f32 + 0.5) / 16.0 * (end - seg.t0);
+                    let density = f.properties(ray.at(t));
+                    let local = density.sigma_a + density.sigma_s;
+                    let majorant = seg.majorant_at(t);
+                    let max = local.max_channel();
+                    assert!(
+                        max <= majorant && majorant <= MAJORANT_SLACK * max * (1.0 + 1e-4),
+                        "{ray:?} at t = {t}: majorant {majorant} for σt {local:?}"
+                    );
+                    // Below the bottom (y < -30) the control is the constant density;
+                    // elsewhere none is given (black). Both up to the rounding of
+                    // σa·k + σs·k against (σa + σs)·k.
+                    let below = ray.at(t).y < -30.0;
+                    for c in 0..3 {
+                        let (control, s) = (seg.sigma_control[c], local[c]);
+                        let want = if below { s } else { 0.0 };
+                        assert!(
+                            (control - want).abs() <= 1e-6 * s,
+                            "{ray:?} at t = {t}: control {:?} for σt {local:?}",
+                            seg.sigma_control
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn pieces_spanning_under_1e12_scale_heights_keep_their_depth() {
+        // Where the exponent changes by less than 1e-12 across a piece, the depth is
+        // e^x·length to far below f32 precision (the next term is x-span/2 relative).
+        let f = HeightFog {
+            height: 0.0,
+            scale_height: 1.0,
+            ..fog()
+        };
+        let (y, length) = (-3.0, 5.0);
+        let level = (3.0f64).exp();
+        let nearly_level = Ray::new(
+            Vec3::new(0.0, y, 0.0),
+            Vec3::new(1.0, 1e-13, 0.0).normalize(),
+        );
+        let got = f.relative_depth(&nearly_level, 0.0, length);
+        assert_eq!(got as f32, (level * length as f64) as f32);
+        let short = Ray::new(Vec3::new(0.0, y, 0.0), Vec3::new(0.6, -0.8, 0.0));
+        let got = f.relative_depth(&short, 0.0, 1e-12);
+        assert_eq!(got as f32, (level * 1e-12f32 as f64) as f32);
+    }
+
+    #[test]
+    fn fog_emits_only_with_emission_and_absorption() {
+        let glow = Rgb::new(0.0, 0.5, 2.0);
+        for (sigma_a, emission, emits) in [
+            (Rgb::splat(0.01), glow, true),
+            (Rgb::new(0.0, 0.0, 0.2), glow, true),
+            (Rgb::BLACK, glow, false),
+            (Rgb::splat(0.01), Rgb::BLACK, false),
+            (Rgb::BLACK, Rgb::BLACK, false),
+        ] {
+            let f = HeightFog {
+                sigma_a,
+                emission,
+                ..fog()
+            };
+            assert_eq!(f.is_emissive(), emits, "σa {sigma_a:?}, Le {emission:?}");
+        }
+    }
+
+    #[test]
     fn visibility_gives_two_percent_contrast() {
         let s = sigma_t_from_visibility(1000.0);
         assert!(((-s * 1000.0).exp() - 0.02).abs() < 1e-6);
