@@ -47,9 +47,18 @@ fn moving(inner: Medium) -> Medium {
 #[test]
 fn extinction_is_absorption_plus_scattering_for_every_medium() {
     let homogeneous = boxed(Rgb::new(0.3, 0.1, 0.2), Rgb::new(0.5, 0.9, 0.4), Rgb::BLACK);
+    // A box-masked interior: the point at (0.9, 0.3, -0.8) lies outside its mask.
+    let interior = InteriorMedium {
+        content: InteriorContent::Homogeneous(homogeneous.clone()),
+        mask: ShapeMask::Region(Region::Box {
+            world_to_local: Affine3A::IDENTITY,
+            local: Bounds3::new(Vec3::splat(-0.75), Vec3::splat(0.75)),
+        }),
+    };
     let media = [
         Medium::Homogeneous(homogeneous.clone()),
         Medium::HeightFog(fog()),
+        Medium::Interior(std::sync::Arc::new(interior)),
         moving(Medium::Homogeneous(homogeneous)),
     ];
     for medium in &media {
