@@ -575,4 +575,54 @@ mod tests {
         // 4096³ voxels in at most 2²² cells: cells of at least ∛16384 ≈ 25.4 voxels.
         assert_eq!(dense_cell_size(100.0, IVec3::splat(4096)), 26);
     }
+
+    fn grid_of(values: &[f32], voxel: f64) -> FloatGrid {
+        let t = GridTransform::scale_translate(
+            "UniformScaleMap",
+            glam::DVec3::splat(voxel),
+            glam::DVec3::ZERO,
+        )
+        .expect("transform");
+        let dims = IVec3::new(values.len() as i32, 1, 1);
+        FloatGrid::from_dense("density", IVec3::ZERO, dims, values, t).expect("grid")
+    }
+
+    fn params(to_world: Affine3A) -> GridMediumParams {
+        GridMediumParams {
+            to_world,
+            density_scale: 1.0,
+            sigma_t_scale: Rgb::WHITE,
+            albedo: Rgb::splat(0.5),
+            phase: PhaseFunction::Isotropic,
+            emission: GridEmission::None,
+            majorant: MajorantMode::Grid,
+            cell_size: None,
+        }
+    }
+
+    /// A voxel step's world length is the file's voxel size times the scene's
+    /// scale, along the axis the placement stretches most.
+    #[test]
+    fn voxel_world_length_is_the_longest_placed_voxel_edge() {
+        let grid = grid_of(&[1.0, 2.0], 0.05);
+        let cases = [
+            (Affine3A::IDENTITY, 0.05),
+            (Affine3A::from_scale(Vec3::splat(2.0)), 0.1),
+            (Affine3A::from_scale(Vec3::new(1.0, 3.0, 0.5)), 0.15),
+        ];
+        for (to_world, expected) in cases {
+            let length = voxel_world_length(&grid, &to_world);
+            assert!((length - expected).abs() < 1e-6, "{length} != {expected}");
+        }
+    }
+
+    /// Lookups clamp negative values to 0 only where the grid holds some: a
+    /// single negative voxel must switch the clamp on, non-negative grids leave it off.
+    #[test]
+    fn a_negative_voxel_switches_the_clamp_on() {
+        let with =
+            |values: &[f32]| GridMedium::new(grid_of(values, 0.1), params(Affine3A::IDENTITY));
+        assert!(!with(&[0.0, 1.0, 2.0, 0.5]).may_clamp);
+        assert!(with(&[0.0, 1.0, -0.25, 0.5]).may_clamp);
+    }
 }
