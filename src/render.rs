@@ -479,7 +479,8 @@ fn render_pixel(
 
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
 pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
-    let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
+    let settings = &scene.settings;
+    let mut sampler = Sampler::for_pixel(settings.sampler, settings.seed, x, y, s as u64);
     // The time sits at a reserved position of the stream: drawing it first moves no other number.
     let time = match scene.settings.shutter {
         Some(_) => scene.settings.sample_time(sampler.time_1d()),

@@ -84,7 +84,9 @@ fn sphere_normals_are_the_analytic_normals_of_each_camera_ray() {
     for y in 0..16 {
         for x in 0..16 {
             for s in 0..4 {
-                let mut sampler = Sampler::new(scene.settings.seed, x, y, s as u64);
+                let settings = &scene.settings;
+                let mut sampler =
+                    Sampler::for_pixel(settings.sampler, settings.seed, x, y, s as u64);
                 let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
                 let a = aov_sample(&scene, x, y, s);
                 // |o + t d − c| = 1: t = −b − √(b² − |o − c|² + 1).

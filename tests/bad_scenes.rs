@@ -27,6 +27,7 @@ fn cases() -> Vec<(&'static str, String, &'static str)> {
         ("nan fov", format!("[camera]\nposition = [0.0,0.0,1.0]\nlook_at = [0.0,0.0,0.0]\nfov = nan\n{LIGHT}"), "camera.fov"),
         ("zero spp", with("[integrator]\nspp = 0\n"), "integrator.spp"),
         ("unknown integrator key", with("[integrator]\nsamples = 4\n"), "samples"),
+        ("unknown sampler", with("[integrator]\nsampler = \"halton\"\n"), "integrator.sampler: unknown sampler `halton`, expected sobol or independent"),
         ("empty scene", CAMERA.into(), "empty"),
         ("unknown light type", format!("{CAMERA}[[light]]\ntype = \"laser\"\n"), "laser"),
         ("light missing intensity", format!("{CAMERA}[[light]]\ntype = \"point\"\nposition = [0.0,0.0,0.0]\n"), "intensity"),

@@ -13,6 +13,7 @@ fn settings(shutter: Option<[f32; 2]>) -> Settings {
         transmittance: TransmittanceEstimator::Auto,
         equiangular: false,
         shutter,
+        sampler: brume::sampling::SamplerKind::Independent,
     }
 }
 

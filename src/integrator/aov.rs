@@ -103,7 +103,7 @@ const AOV_STREAM_KEY: u64 = 0x414F_565F_5354_524D;
 pub fn aov_sample(scene: &Scene, x: u32, y: u32, s: u32) -> AovSample {
     let seed = scene.settings.seed;
     // The beauty's first two dimensions choose its camera ray (see render::pixel_sample).
-    let mut beauty = Sampler::new(seed, x, y, s as u64);
+    let mut beauty = Sampler::for_pixel(scene.settings.sampler, seed, x, y, s as u64);
     // The beauty's time too (a reserved stream position): AOVs see the scene as the beauty does.
     let time = match scene.settings.shutter {
         Some(_) => scene.settings.sample_time(beauty.time_1d()),

@@ -18,7 +18,7 @@ use crate::light::{Light, LightPick};
 use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
-use crate::sampling::{power_heuristic, Sampler};
+use crate::sampling::{power_heuristic, Sampler, SamplerKind};
 use crate::texture::Texture;
 use direct::{direct_light, Vertex};
 pub use tracking::TransmittanceEstimator;
@@ -44,6 +44,8 @@ pub struct Settings {
     /// Camera shutter `[open, close]` in frames relative to the frame's time
     /// (`None`: every ray at time 0, the instant of the frame).
     pub shutter: Option<[f32; 2]>,
+    /// How pixel samples draw their random numbers.
+    pub sampler: SamplerKind,
 }
 
 impl Settings {

@@ -3,7 +3,10 @@
 //! Every random number is a function of (scene seed, pixel, sample index,
 //! dimension): a pixel's stream is a PCG32 generator keyed by the first
 //! three, and the dimension is the position in that stream. Renders are
-//! therefore identical whatever the thread count or tile order.
+//! therefore identical whatever the thread count or tile order. A `Sobol`
+//! sampler ([`Sampler::for_pixel`], module `sobol`) answers its first
+//! [`SOBOL_DIMENSIONS`] dimensions from shuffled Sobol' points keyed by the
+//! same triple instead, and the PCG stream from there on.
 //!
 //! One dimension is reserved outside the sequential stream: the camera
 //! sample's time ([`Sampler::time_1d`]) is the number at position
@@ -15,6 +18,7 @@ pub mod chi2;
 pub mod distribution;
 pub mod equiangular;
 pub mod quadrature;
+pub mod sobol;
 pub mod warp;
 
 use rand::RngCore;
@@ -44,10 +48,38 @@ pub fn mix64(mut z: u64) -> u64 {
 /// (a path of 2^40 numbers would take days), so it never collides with a sequential dimension.
 pub const TIME_DIMENSION: u64 = 1 << 40;
 
+/// How a pixel's samples draw their first dimensions (`integrator.sampler`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SamplerKind {
+    /// Owen-scrambled Sobol' points for the first [`SOBOL_DIMENSIONS`]
+    /// dimensions (module `sobol`), independent numbers after them.
+    #[default]
+    Sobol,
+    /// Independent uniform numbers in every dimension.
+    Independent,
+}
+
+/// Dimensions a `Sobol` sampler draws from shuffled Sobol' points: the
+/// camera sample and the first vertices' choices, where stratification
+/// pays; deeper dimensions take independent numbers. On B4 (96×64, 64 spp)
+/// 12 dimensions cut the error per sample by 12 % for 3 % more
+/// instructions; 32 cut it by 11 % for 4 %.
+pub const SOBOL_DIMENSIONS: u32 = 12;
+
+/// Where a `Sobol` sampler is in its pixel's sample.
+#[derive(Clone, Copy, Debug)]
+struct SobolState {
+    pixel_key: u64,
+    /// The sample index, bit-reversed (what the points are computed from).
+    reversed_index: u32,
+    dimension: u32,
+}
+
 /// The random stream of one (seed, pixel, sample index) triple.
 #[derive(Clone, Debug)]
 pub struct Sampler {
     rng: Pcg32,
+    sobol: Option<SobolState>,
 }
 
 impl Sampler {
@@ -58,7 +90,22 @@ impl Sampler {
         let stream = mix64(pixel_key.rotate_left(17) ^ sample_index);
         Sampler {
             rng: Pcg32::new(state, stream),
+            sobol: None,
         }
+    }
+
+    /// The stream of sample `sample_index` of pixel `(x, y)` for a sampler of `kind`.
+    pub fn for_pixel(kind: SamplerKind, seed: u64, x: u32, y: u32, sample_index: u64) -> Sampler {
+        let mut sampler = Sampler::new(seed, x, y, sample_index);
+        if kind == SamplerKind::Sobol {
+            sampler.sobol = Some(SobolState {
+                pixel_key: mix64(seed.rotate_left(29) ^ mix64(((y as u64) << 32) | x as u64)),
+                // Sample indices past 2³² wrap: they repeat points, never bias.
+                reversed_index: (sample_index as u32).reverse_bits(),
+                dimension: 0,
+            });
+        }
+        sampler
     }
 
     /// A stream keyed by a single integer, for tests and tools.
@@ -83,6 +130,14 @@ impl Sampler {
     /// Next uniform point in [0, 1)².
     #[inline]
     pub fn next_2d(&mut self) -> glam::Vec2 {
+        if let Some(st) = &mut self.sobol {
+            if st.dimension + 1 < SOBOL_DIMENSIONS {
+                let key = sobol::dimension_key(st.pixel_key, st.dimension);
+                st.dimension += 2;
+                let [u, v] = sobol::point_2d(st.reversed_index, key);
+                return glam::Vec2::new(u, v);
+            }
+        }
         let u = self.next_1d();
         glam::Vec2::new(u, self.next_1d())
     }

@@ -255,6 +255,13 @@ pub struct IntegratorDesc {
     /// Equiangular sampling toward point and spot lights in media (MIS with free flight).
     #[serde(default = "default_true")]
     pub equiangular: bool,
+    /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.
+    #[serde(default = "default_sampler")]
+    pub sampler: String,
+}
+
+fn default_sampler() -> String {
+    "sobol".into()
 }
 
 fn default_true() -> bool {
@@ -275,6 +282,7 @@ impl Default for IntegratorDesc {
             seed: 0,
             transmittance: default_transmittance(),
             equiangular: true,
+            sampler: default_sampler(),
         }
     }
 }

@@ -22,6 +22,7 @@ use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light, LightPick};
 use crate::material::Material;
+use crate::sampling::SamplerKind;
 use crate::texture::Texture;
 use description::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
 use std::path::{Path, PathBuf};
@@ -344,6 +345,16 @@ pub fn build_frame(
                     format!(
                     "unknown estimator `{other}`, expected auto, ratio, residual_ratio or delta"
                 ),
+                ))
+            }
+        },
+        sampler: match integ.sampler.as_str() {
+            "sobol" => SamplerKind::Sobol,
+            "independent" => SamplerKind::Independent,
+            other => {
+                return Err(check.error(
+                    "integrator.sampler",
+                    format!("unknown sampler `{other}`, expected sobol or independent"),
                 ))
             }
         },
