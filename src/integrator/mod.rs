@@ -392,3 +392,34 @@ fn russian_roulette(
     *throughput /= q;
     true
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Past `rr_depth` a path survives with probability q = max channel
+    /// (at most 0.95) and its survivors carry 1/q; before it, and never with
+    /// zero throughput, nothing is drawn.
+    #[test]
+    fn russian_roulette_keeps_a_path_with_its_largest_channel_as_probability() {
+        let mut sampler = Sampler::new(5, 0, 0, 0);
+        let mut early = Rgb::new(0.5, 0.25, 0.1);
+        assert!(russian_roulette(&mut early, 2, 3, &mut sampler));
+        assert_eq!(early, Rgb::new(0.5, 0.25, 0.1));
+        assert!(!russian_roulette(&mut Rgb::BLACK, 3, 3, &mut sampler));
+        let n = 20_000;
+        let mut survived = 0;
+        for i in 0..n {
+            let mut sampler = Sampler::new(7, 1, 2, i);
+            let mut throughput = Rgb::new(0.5, 0.25, 0.1);
+            if russian_roulette(&mut throughput, 3, 3, &mut sampler) {
+                survived += 1;
+                assert_eq!(throughput, Rgb::new(1.0, 0.5, 0.2));
+            }
+        }
+        // One check at the suite's k(1) = 4.42 standard errors (tests/common/stats.rs).
+        let p = survived as f64 / n as f64;
+        let se = (0.5f64 * 0.5 / n as f64).sqrt();
+        assert!((p - 0.5).abs() < 4.42 * se, "survival {p}");
+    }
+}
