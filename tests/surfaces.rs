@@ -11,6 +11,17 @@ use std::sync::atomic::AtomicBool;
 /// A closed-form furnace: a sphere of `material` in a uniform environment of
 /// radiance 1, seen through a field of view of `fov` degrees.
 fn furnace(material: &str, rr_depth: u32, resolution: u32, fov: f32) -> Vec<Estimate> {
+    furnace_with(material, rr_depth, resolution, fov, "sobol")
+}
+
+/// [`furnace`] with pixel samples drawn by `sampler` (`integrator.sampler`).
+fn furnace_with(
+    material: &str,
+    rr_depth: u32,
+    resolution: u32,
+    fov: f32,
+    sampler: &str,
+) -> Vec<Estimate> {
     let scene = scene_from_str(&format!(
         r#"
         [camera]
@@ -21,6 +32,7 @@ fn furnace(material: &str, rr_depth: u32, resolution: u32, fov: f32) -> Vec<Esti
         [integrator]
         max_depth = 1000
         rr_depth = {rr_depth}
+        sampler = "{sampler}"
         [[light]]
         type = "environment"
         radiance = 1.0
@@ -53,6 +65,15 @@ fn white_furnace_sphere_in_uniform_environment() {
 fn white_furnace_with_russian_roulette_from_the_first_bounce() {
     let pixels = furnace("{ type = \"diffuse\", albedo = 1.0 }", 0, 8, 16.0);
     assert_pixels_equal(&pixels, [1.0; 3], "furnace with roulette");
+}
+
+/// The roulette furnace with independent random numbers (`sampler =
+/// "independent"`): every number of the path from the PCG stream, still 1.
+#[test]
+fn white_furnace_with_roulette_and_independent_samples() {
+    let material = "{ type = \"diffuse\", albedo = 1.0 }";
+    let pixels = furnace_with(material, 0, 8, 16.0, "independent");
+    assert_pixels_equal(&pixels, [1.0; 3], "furnace with independent samples");
 }
 
 /// A perfect mirror sphere in the furnace: exactly 1 as well.
