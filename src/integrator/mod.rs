@@ -406,7 +406,8 @@ mod tests {
         let mut early = Rgb::new(0.5, 0.25, 0.1);
         assert!(russian_roulette(&mut early, 2, 3, &mut sampler));
         assert_eq!(early, Rgb::new(0.5, 0.25, 0.1));
-        assert!(!russian_roulette(&mut Rgb::BLACK, 3, 3, &mut sampler));
+        let mut dark = Rgb::BLACK;
+        assert!(!russian_roulette(&mut dark, 3, 3, &mut sampler));
         let n = 20_000;
         let mut survived = 0;
         for i in 0..n {
