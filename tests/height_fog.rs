@@ -62,6 +62,29 @@ fn rays() -> Vec<(&'static str, f32, Vec3)> {
     ]
 }
 
+/// `n` tracked transmittance estimates along `ray` to `t_max` from one stream of `seed`.
+fn tracked(
+    medium: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    estimator: TransmittanceEstimator,
+    seed: u64,
+    n: usize,
+) -> Estimate {
+    let mut acc = Accumulator::default();
+    let mut sampler = Sampler::from_seed(seed);
+    for _ in 0..n {
+        acc.add(medium_transmittance(
+            medium,
+            ray,
+            t_max,
+            estimator,
+            &mut sampler,
+        ));
+    }
+    acc.estimate()
+}
+
 #[test]
 fn optical_depth_and_transmittance_match_closed_form() {
     let (h0, scale) = (2.0f32, 8.0f32);
@@ -209,19 +232,9 @@ fn rays_through_the_truncation_heights_match_the_truncated_closed_form() {
             TransmittanceEstimator::Ratio,
             TransmittanceEstimator::ResidualRatio,
         ] {
-            let mut acc = Accumulator::default();
-            let mut sampler = Sampler::from_seed(40 + i as u64);
-            for _ in 0..20_000 {
-                acc.add(medium_transmittance(
-                    &medium,
-                    &ray,
-                    t_max,
-                    estimator,
-                    &mut sampler,
-                ));
-            }
+            let est = tracked(&medium, &ray, t_max, estimator, 40 + i as u64, 20_000);
             let what = format!("{name} {estimator:?}");
-            assert_estimate(&acc.estimate(), want.map(|w| (-w).exp()), &what);
+            assert_estimate(&est, want.map(|w| (-w).exp()), &what);
         }
     }
 }
@@ -247,18 +260,7 @@ fn tracked_transmittance_matches_closed_form() {
             TransmittanceEstimator::Ratio,
             TransmittanceEstimator::ResidualRatio,
         ] {
-            let mut acc = Accumulator::default();
-            let mut sampler = Sampler::from_seed(7);
-            for _ in 0..n {
-                acc.add(medium_transmittance(
-                    &medium,
-                    &ray,
-                    t_max,
-                    estimator,
-                    &mut sampler,
-                ));
-            }
-            let e = acc.estimate();
+            let e = tracked(&medium, &ray, t_max, estimator, 7, n);
             assert_estimate(
                 &e,
                 [want[0] as f64, want[1] as f64, want[2] as f64],
