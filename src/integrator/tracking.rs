@@ -690,6 +690,68 @@ mod tests {
     use crate::math::{Affine3A, Bounds3, Quat, Vec3};
     use crate::medium::{PhaseFunction, Region};
 
+    /// A ray that would take more than [`MAX_TENTATIVE_COLLISIONS`] null
+    /// collisions (σ̄ = 10⁶ σt over one unit: about 10⁶) stops at the cap:
+    /// ratio tracking returns 0, not the product so far, and the ray is
+    /// counted; a ray under the cap is not.
+    #[test]
+    fn a_ray_past_the_collision_cap_is_ended_and_counted() {
+        let medium = Medium::Homogeneous(HomogeneousMedium {
+            sigma_a: Rgb::splat(0.5),
+            sigma_s: Rgb::splat(0.5),
+            emission: Rgb::BLACK,
+            phase: PhaseFunction::Isotropic,
+            region: Region::Box {
+                world_to_local: Affine3A::IDENTITY,
+                local: Bounds3::new(Vec3::splat(-0.5), Vec3::splat(0.5)),
+            },
+        });
+        let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+        let mut sampler = crate::sampling::Sampler::from_seed(4);
+        let before = capped_rays();
+        let capped =
+            ratio_tracking_scaled_majorant(&medium, &ray, f32::INFINITY, 1e6, &mut sampler);
+        assert_eq!(
+            capped,
+            Rgb::BLACK,
+            "the product of 65536 ratios is about 0.94, not 0"
+        );
+        // Other tests of this binary may cap rays too: at least this one is counted.
+        assert!(capped_rays() > before);
+        let under = ratio_tracking_scaled_majorant(&medium, &ray, f32::INFINITY, 1e3, &mut sampler);
+        assert!(under.max_channel() > 0.0);
+    }
+
+    /// Roulette on a tracking weight below the threshold keeps it with
+    /// probability max|w| / threshold and divides the survivor by that.
+    #[test]
+    fn tracking_roulette_survives_in_proportion_to_the_weight() {
+        let n = 20_000;
+        let mut survived = 0;
+        for i in 0..n {
+            let mut sampler = crate::sampling::Sampler::new(8, 0, 0, i);
+            let mut w = Rgb::new(0.02, -0.05, 0.01);
+            if roulette(&mut w, &mut sampler) {
+                survived += 1;
+                assert_eq!(w, Rgb::new(0.04, -0.1, 0.02));
+            } else {
+                assert_eq!(w, Rgb::BLACK);
+            }
+        }
+        let mut big = Rgb::splat(0.2);
+        assert!(roulette(
+            &mut big,
+            &mut crate::sampling::Sampler::from_seed(1)
+        ));
+        assert_eq!(big, Rgb::splat(0.2));
+        // One check at the suite's k(1) = 4.42 standard errors (tests/common/stats.rs).
+        let p = survived as f64 / n as f64;
+        assert!(
+            (p - 0.5).abs() < 4.42 * (0.25 / n as f64).sqrt(),
+            "survival {p}"
+        );
+    }
+
     /// The homogeneous fast path takes the same random numbers and gives the
     /// same outcome, to the bit, as the general tracker loop, for rays that
     /// start outside, inside and beyond the medium, with absorption, emission
