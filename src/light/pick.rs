@@ -89,16 +89,6 @@ impl LightPick {
     pub fn pmf(&self, index: usize) -> f32 {
         self.pmf[index]
     }
-
-    /// Number of lights.
-    pub fn len(&self) -> usize {
-        self.pmf.len()
-    }
-
-    /// True with no lights.
-    pub fn is_empty(&self) -> bool {
-        self.pmf.is_empty()
-    }
 }
 
 #[cfg(test)]
