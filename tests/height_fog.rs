@@ -239,6 +239,42 @@ fn rays_through_the_truncation_heights_match_the_truncated_closed_form() {
     }
 }
 
+/// A long, nearly level ray going down into the fog: over its 2000 units it
+/// sinks 2 units (a third of a scale height), so its majorant grows by 40 %
+/// along one segment whose decay rate times length is far above the 1e-4 under
+/// which tracking steps a segment as constant. Delta tracking, which needs a
+/// true bound, still matches the closed form.
+#[test]
+fn a_long_shallow_descent_is_tracked_under_a_growing_majorant() {
+    let (h0, scale) = (0.0f32, 6.0f32);
+    let sigma = Rgb::splat(4e-4);
+    let medium = Medium::HeightFog(fog(sigma * 0.25, sigma * 0.75, h0, scale));
+    let d = Vec3::new(1.0, -1e-3, 0.0).normalize();
+    let (y0, t_max) = (1.0f32, 2000.0f32);
+    let ray = Ray::new(Vec3::new(0.0, y0, 0.0), d);
+    let depth = tau(
+        4e-4,
+        y0 as f64,
+        d.y as f64,
+        h0 as f64,
+        scale as f64,
+        t_max as f64,
+    );
+    let est = tracked(
+        &medium,
+        &ray,
+        t_max,
+        TransmittanceEstimator::Delta,
+        91,
+        20_000,
+    );
+    assert_estimate(
+        &est,
+        [(-depth).exp(); 3],
+        "long shallow descent, delta tracking",
+    );
+}
+
 /// Ratio and residual ratio tracking over the fog's majorant pieces are unbiased (RGB fog: null collisions occur).
 #[test]
 fn tracked_transmittance_matches_closed_form() {
