@@ -265,3 +265,61 @@ fn unknown_aov_names_are_refused_with_the_key_path() {
         .assert()
         .code(2);
 }
+
+/// A plane seen from behind still gives the normal that faces the camera.
+#[test]
+fn a_plane_seen_from_behind_has_the_normal_toward_the_camera() {
+    let scene = scene_from_str(
+        &plane_scene(2.0).replace("normal = [0.0, 0.0, 1.0]", "normal = [0.0, 0.0, -1.0]"),
+    );
+    let layers = render_aovs(&scene, &[Aov::Normal], 2, Some(1));
+    for i in 0..12 * 8 {
+        assert!(
+            (channel(&layers, "normal.Z")[i] - 1.0).abs() < 1e-6,
+            "pixel {i}"
+        );
+    }
+}
+
+/// In a medium of albedo 1 every camera ray scatters at a distance t drawn
+/// from σt·e^(−σt t); the depth AOV is camera-space, t·cos α for a ray α off
+/// the view axis, so depth / cos α averages 1/σt over a corner pixel's samples.
+#[test]
+fn a_scattering_point_has_the_camera_space_depth_of_its_distance() {
+    let scene = scene_from_str(
+        r#"
+        [camera]
+        position = [0.0, 0.0, 0.0]
+        look_at = [0.0, 0.0, -1.0]
+        fov = 70.0
+        resolution = [4, 4]
+        [[light]]
+        type = "environment"
+        radiance = 1.0
+        [[medium]]
+        type = "homogeneous"
+        sigma_a = 0.0
+        sigma_s = 0.5
+        bounds = { type = "box", min = [-1000.0, -1000.0, -1000.0], max = [1000.0, 1000.0, 1000.0] }
+        "#,
+    );
+    let forward = Vec3::new(0.0, 0.0, -1.0);
+    let n = 8192;
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    for s in 0..n {
+        let settings = &scene.settings;
+        let mut sampler = Sampler::for_pixel(settings.sampler, settings.seed, 0, 0, s as u64);
+        let ray = scene.camera.generate_ray(0, 0, sampler.next_2d());
+        let a = aov_sample(&scene, 0, 0, s);
+        let depth = a.depth.expect("every ray scatters");
+        let t = (depth / ray.direction.dot(forward)) as f64;
+        sum += t;
+        sum2 += t * t;
+    }
+    let mean = sum / n as f64;
+    let se = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+    assert!(
+        (mean - 2.0).abs() < k_sigma(1) * se,
+        "mean distance {mean} ± {se}, expected 1/σt = 2"
+    );
+}

@@ -228,3 +228,60 @@ impl AovPixel {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn finite_sample() -> AovSample {
+        AovSample {
+            alpha: 1.0,
+            depth: Some(2.0),
+            normal: Vec3::Z,
+            albedo: Rgb::splat(0.5),
+            transmittance: Rgb::WHITE,
+        }
+    }
+
+    /// A sample with any one non-finite value is left out whole; a pixel no
+    /// sample's ray hit has depth +∞.
+    #[test]
+    fn a_pixel_drops_samples_with_any_non_finite_value() {
+        let mut px = AovPixel::default();
+        let mut out = Vec::new();
+        px.value(Aov::Depth, &mut out);
+        assert_eq!(out, [f32::INFINITY]);
+        px.add(&finite_sample());
+        let bad = [
+            AovSample {
+                alpha: f32::NAN,
+                ..finite_sample()
+            },
+            AovSample {
+                depth: Some(f32::INFINITY),
+                ..finite_sample()
+            },
+            AovSample {
+                normal: Vec3::new(0.0, f32::NAN, 1.0),
+                ..finite_sample()
+            },
+            AovSample {
+                albedo: Rgb::new(0.5, f32::INFINITY, 0.5),
+                ..finite_sample()
+            },
+            AovSample {
+                transmittance: Rgb::new(f32::NAN, 1.0, 1.0),
+                ..finite_sample()
+            },
+        ];
+        for (k, sample) in bad.iter().enumerate() {
+            px.add(sample);
+            assert_eq!(px.count, 1, "sample {k} was kept");
+        }
+        for aov in Aov::ALL {
+            out.clear();
+            px.value(aov, &mut out);
+            assert!(out.iter().all(|v| v.is_finite()), "{aov:?}: {out:?}");
+        }
+    }
+}
