@@ -48,11 +48,18 @@ pub fn mix64(mut z: u64) -> u64 {
 /// (a path of 2^40 numbers would take days), so it never collides with a sequential dimension.
 pub const TIME_DIMENSION: u64 = 1 << 40;
 
+/// The hash of pixel `(x, y)` that keys its streams.
+#[inline]
+fn pixel_hash(x: u32, y: u32) -> u64 {
+    mix64(((y as u64) << 32) | x as u64)
+}
+
 /// How a pixel's samples draw their first dimensions (`integrator.sampler`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SamplerKind {
-    /// Owen-scrambled Sobol' points for the first [`SOBOL_DIMENSIONS`]
-    /// dimensions (module `sobol`), independent numbers after them.
+    /// Sobol' points, their index Owen-shuffled and their values shifted,
+    /// for the first [`SOBOL_DIMENSIONS`] dimensions (module `sobol`),
+    /// independent numbers after them.
     #[default]
     Sobol,
     /// Independent uniform numbers in every dimension.
@@ -85,7 +92,12 @@ pub struct Sampler {
 impl Sampler {
     /// The stream for sample `sample_index` of pixel `(x, y)` under scene seed `seed`.
     pub fn new(seed: u64, x: u32, y: u32, sample_index: u64) -> Sampler {
-        let pixel_key = mix64(seed ^ mix64(((y as u64) << 32) | x as u64));
+        Sampler::keyed(seed, pixel_hash(x, y), sample_index)
+    }
+
+    /// [`Sampler::new`] from the pixel's hash, [`pixel_hash`]`(x, y)`.
+    fn keyed(seed: u64, pixel: u64, sample_index: u64) -> Sampler {
+        let pixel_key = mix64(seed ^ pixel);
         let state = mix64(pixel_key ^ mix64(sample_index.wrapping_mul(0xD1B5_4A32_D192_ED03)));
         let stream = mix64(pixel_key.rotate_left(17) ^ sample_index);
         Sampler {
@@ -96,10 +108,11 @@ impl Sampler {
 
     /// The stream of sample `sample_index` of pixel `(x, y)` for a sampler of `kind`.
     pub fn for_pixel(kind: SamplerKind, seed: u64, x: u32, y: u32, sample_index: u64) -> Sampler {
-        let mut sampler = Sampler::new(seed, x, y, sample_index);
+        let pixel = pixel_hash(x, y);
+        let mut sampler = Sampler::keyed(seed, pixel, sample_index);
         if kind == SamplerKind::Sobol {
             sampler.sobol = Some(SobolState {
-                pixel_key: mix64(seed.rotate_left(29) ^ mix64(((y as u64) << 32) | x as u64)),
+                pixel_key: mix64(seed.rotate_left(29) ^ pixel),
                 // Sample indices past 2³² wrap: they repeat points, never bias.
                 reversed_index: (sample_index as u32).reverse_bits(),
                 dimension: 0,
