@@ -34,18 +34,6 @@ fn low_to_high_hash(mut v: u32, seed: u32) -> u32 {
     v
 }
 
-/// A nested uniform scramble of the bits of `x` (most significant first), keyed by `seed`.
-#[inline]
-pub fn nested_scramble(x: u32, seed: u32) -> u32 {
-    low_to_high_hash(x.reverse_bits(), seed).reverse_bits()
-}
-
-/// The first Sobol' dimension of point `i`: the base-2 radical inverse, as 32 fraction bits.
-#[inline]
-pub fn sobol_first(i: u32) -> u32 {
-    i.reverse_bits()
-}
-
 /// The second Sobol' dimension as a function of the *bit-reversed* point
 /// index, xored by bytes: `SECOND_OF_REVERSED[b][j]` is the xor of the
 /// direction numbers (primitive polynomial x + 1: v₁ = 2⁻¹, vₖ = vₖ₋₁ ⊕ vₖ₋₁/2)
@@ -91,12 +79,6 @@ fn sobol_second_of_reversed(r: u32) -> u32 {
         ^ SECOND_OF_REVERSED[1][b1 as usize]
         ^ SECOND_OF_REVERSED[2][b2 as usize]
         ^ SECOND_OF_REVERSED[3][b3 as usize]
-}
-
-/// The second Sobol' dimension of point `i`, as 32 fraction bits.
-#[inline]
-pub fn sobol_second(i: u32) -> u32 {
-    sobol_second_of_reversed(i.reverse_bits())
 }
 
 /// 32 fraction bits as an f32 in [0, 1) (the top 24 bits, so never 1).
@@ -147,6 +129,17 @@ pub fn point_2d(reversed_index: u32, key: u64) -> [f32; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A nested uniform scramble of the bits of `x` (most significant first),
+    /// keyed by `seed`: what the shuffle computes, in the natural bit order.
+    fn nested_scramble(x: u32, seed: u32) -> u32 {
+        low_to_high_hash(x.reverse_bits(), seed).reverse_bits()
+    }
+
+    /// The second Sobol' dimension of point `i`, as 32 fraction bits.
+    fn sobol_second(i: u32) -> u32 {
+        sobol_second_of_reversed(i.reverse_bits())
+    }
 
     /// The unscrambled second dimension of the first points: 0, ½, ¾, ¼, ⅝, ⅛, ⅜, ⅞;
     /// the tables agree with the bit-by-bit definition.
