@@ -11,7 +11,7 @@ use crate::image_io::Image;
 use crate::integrator::aov::{aov_sample, Aov, AovPixel};
 use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::{li, Scene};
-use crate::sampling::Sampler;
+use crate::sampling::PixelStreams;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -468,11 +468,12 @@ fn render_pixel(
     cancel: &AtomicBool,
 ) -> Option<Pixel> {
     let mut px = Pixel::default();
+    let streams = PixelStreams::new(scene.settings.sampler, scene.settings.seed, x, y);
     for s in first..first + count {
         if cancel.load(Ordering::Relaxed) {
             return None;
         }
-        px.add(pixel_sample(scene, x, y, s));
+        px.add(stream_sample(scene, x, y, &streams, s));
     }
     Some(px)
 }
@@ -480,7 +481,13 @@ fn render_pixel(
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
 pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
     let settings = &scene.settings;
-    let mut sampler = Sampler::for_pixel(settings.sampler, settings.seed, x, y, s as u64);
+    let streams = PixelStreams::new(settings.sampler, settings.seed, x, y);
+    stream_sample(scene, x, y, &streams, s)
+}
+
+/// [`pixel_sample`] given the pixel's streams, hashed once for all its samples.
+fn stream_sample(scene: &Scene, x: u32, y: u32, streams: &PixelStreams, s: u32) -> Rgb {
+    let mut sampler = streams.sampler(s as u64);
     // The time sits at a reserved position of the stream: drawing it first moves no other number.
     let time = match scene.settings.shutter {
         Some(_) => scene.settings.sample_time(sampler.time_1d()),
@@ -510,8 +517,10 @@ pub fn render_aovs(
     pool.install(|| {
         film.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
             for (x, px) in row.iter_mut().enumerate() {
+                let (x, y) = (x as u32, y as u32);
+                let beauty = PixelStreams::new(scene.settings.sampler, scene.settings.seed, x, y);
                 for s in 0..spp {
-                    px.add(&aov_sample(scene, x as u32, y as u32, s));
+                    px.add(&aov_sample(scene, x, y, &beauty, s));
                 }
             }
         })

@@ -7,7 +7,7 @@ use analytic_support::{k_sigma, scene_from_str};
 use brume::integrator::aov::{aov_sample, Aov};
 use brume::math::Vec3;
 use brume::render::render_aovs;
-use brume::sampling::Sampler;
+use brume::sampling::PixelStreams;
 
 /// Channel `name` of a render_aovs result.
 fn channel<'a>(layers: &'a [(String, Vec<f32>)], name: &str) -> &'a [f32] {
@@ -85,10 +85,11 @@ fn sphere_normals_are_the_analytic_normals_of_each_camera_ray() {
         for x in 0..16 {
             for s in 0..4 {
                 let settings = &scene.settings;
-                let mut sampler =
-                    Sampler::for_pixel(settings.sampler, settings.seed, x, y, s as u64);
-                let ray = scene.camera.generate_ray(x, y, sampler.next_2d());
-                let a = aov_sample(&scene, x, y, s);
+                let streams = PixelStreams::new(settings.sampler, settings.seed, x, y);
+                let ray = scene
+                    .camera
+                    .generate_ray(x, y, streams.sampler(s as u64).next_2d());
+                let a = aov_sample(&scene, x, y, &streams, s);
                 // |o + t d − c| = 1: t = −b − √(b² − |o − c|² + 1).
                 let oc = ray.origin - c;
                 let b = oc.dot(ray.direction);
@@ -306,11 +307,13 @@ fn a_scattering_point_has_the_camera_space_depth_of_its_distance() {
     let forward = Vec3::new(0.0, 0.0, -1.0);
     let n = 8192;
     let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    let settings = &scene.settings;
+    let streams = PixelStreams::new(settings.sampler, settings.seed, 0, 0);
     for s in 0..n {
-        let settings = &scene.settings;
-        let mut sampler = Sampler::for_pixel(settings.sampler, settings.seed, 0, 0, s as u64);
-        let ray = scene.camera.generate_ray(0, 0, sampler.next_2d());
-        let a = aov_sample(&scene, 0, 0, s);
+        let ray = scene
+            .camera
+            .generate_ray(0, 0, streams.sampler(s as u64).next_2d());
+        let a = aov_sample(&scene, 0, 0, &streams, s);
         let depth = a.depth.expect("every ray scatters");
         let t = (depth / ray.direction.dot(forward)) as f64;
         sum += t;

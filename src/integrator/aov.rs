@@ -26,7 +26,7 @@ use super::Scene;
 use crate::color::Rgb;
 use crate::material::Material;
 use crate::math::{Ray, Vec3};
-use crate::sampling::Sampler;
+use crate::sampling::{PixelStreams, Sampler};
 
 /// An output beside the beauty.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -99,11 +99,12 @@ pub struct AovSample {
 /// Mixed into the scene seed to key the AOV streams apart from the beauty's.
 const AOV_STREAM_KEY: u64 = 0x414F_565F_5354_524D;
 
-/// The AOVs of sample `s` of pixel (x, y): the beauty's camera ray, the AOV stream.
-pub fn aov_sample(scene: &Scene, x: u32, y: u32, s: u32) -> AovSample {
+/// The AOVs of sample `s` of pixel (x, y): the beauty's camera ray (from
+/// the beauty's streams of that pixel, `beauty`), the AOV stream.
+pub fn aov_sample(scene: &Scene, x: u32, y: u32, beauty: &PixelStreams, s: u32) -> AovSample {
     let seed = scene.settings.seed;
     // The beauty's first two dimensions choose its camera ray (see render::pixel_sample).
-    let mut beauty = Sampler::for_pixel(scene.settings.sampler, seed, x, y, s as u64);
+    let mut beauty = beauty.sampler(s as u64);
     // The beauty's time too (a reserved stream position): AOVs see the scene as the beauty does.
     let time = match scene.settings.shutter {
         Some(_) => scene.settings.sample_time(beauty.time_1d()),

@@ -115,14 +115,16 @@ pub fn point_1d(reversed_index: u32, key: u64) -> f32 {
     to_unit(shuffled_reversed(reversed_index, key) ^ (key >> 32) as u32)
 }
 
-/// A pair of dimensions of sample `index` (given reversed) for the key of (pixel, first dimension).
+/// A pair of dimensions of sample `index` (given reversed): shuffled by the
+/// key of (pixel, first dimension), its second coordinate shifted by
+/// another independent key (the pixel's key of the second dimension, which
+/// a pair uses for nothing else).
 #[inline]
-pub fn point_2d(reversed_index: u32, key: u64) -> [f32; 2] {
+pub fn point_2d(reversed_index: u32, key: u64, second_key: u64) -> [f32; 2] {
     let r = shuffled_reversed(reversed_index, key);
-    let shift = super::mix64(key);
     [
         to_unit(r ^ (key >> 32) as u32),
-        to_unit(sobol_second_of_reversed(r) ^ shift as u32),
+        to_unit(sobol_second_of_reversed(r) ^ (second_key >> 32) as u32),
     ]
 }
 
@@ -216,7 +218,7 @@ mod tests {
                 }
                 assert!(strata.iter().all(|&c| c == 1), "1-D, key {key:x}, m {m}");
                 let pairs: Vec<[f32; 2]> = (0..n as u32)
-                    .map(|i| point_2d(i.reverse_bits(), key))
+                    .map(|i| point_2d(i.reverse_bits(), key, !key))
                     .collect();
                 for kx in 0..=m {
                     let (nx, ny) = (1usize << kx, 1usize << (m - kx));
@@ -236,15 +238,15 @@ mod tests {
     #[test]
     fn keys_randomise_each_sample_uniformly() {
         assert_ne!(
-            point_2d(3u32.reverse_bits(), 1),
-            point_2d(3u32.reverse_bits(), 2)
+            point_2d(3u32.reverse_bits(), 1, 3),
+            point_2d(3u32.reverse_bits(), 2, 3)
         );
         let n = 200_000u64;
         let (mut s1, mut s2x, mut s2y) = (0.0f64, 0.0f64, 0.0f64);
         for k in 0..n {
             let key = super::super::mix64(k);
             s1 += point_1d(5u32.reverse_bits(), key) as f64;
-            let p = point_2d(5u32.reverse_bits(), key);
+            let p = point_2d(5u32.reverse_bits(), key, super::super::mix64(key ^ 1));
             s2x += p[0] as f64;
             s2y += p[1] as f64;
         }
