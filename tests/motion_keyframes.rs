@@ -262,6 +262,39 @@ fn a_moving_growing_sphere_light_lights_the_floor_as_its_shutter_average() {
     }
 }
 
+/// The MIS weight of a floor ray that hits a moving sphere light must use the
+/// light's cone where the light is at that time. Written at height 0.25 (a
+/// cone of 2.5 sr from the floor) and keyframed up to 1.5 (0.06 sr), a light
+/// weighed at its written place would give the floor's BSDF-sampled hits
+/// about 0.4 of the weight they should nearly lack: ~40 % too bright.
+#[test]
+fn a_sphere_light_keyframed_away_from_where_it_is_written_is_weighed_where_it_is() {
+    let light =
+        "[[shape]]\ntype = \"sphere\"\ncenter = [0.0, 0.25, 0.0]\nradius = 0.2\nemission = 4.0\n\
+        transform = { keyframes = [{ time = -0.5, translate = [-0.3, 1.25, 0.0] }, \
+        { time = 0.5, translate = [0.3, 1.25, 0.0] }] }";
+    let scene = scene_from_str(&floor_scene(light));
+    for x0 in [0.0f32, 0.5] {
+        let e = brume::sampling::quadrature::gauss_legendre(
+            |t| {
+                let c = glam::DVec3::new(0.6 * t, 1.5, 0.0);
+                let d = c - glam::DVec3::new(x0 as f64, 0.0, 0.0);
+                std::f64::consts::PI * (0.04 / d.length_squared()) * (d.y / d.length())
+            },
+            -0.5,
+            0.5,
+            256,
+        );
+        let expected = 0.5 / std::f64::consts::PI * 4.0 * e;
+        let est = floor_estimate(&scene, x0, 40_000, 7);
+        common::assert_estimate(
+            &est,
+            [expected; 3],
+            &format!("sphere light keyframed up, floor at x {x0}"),
+        );
+    }
+}
+
 #[test]
 fn shapes_with_keys_that_do_not_move_render_as_a_plain_transform() {
     let light = |t: &str| {

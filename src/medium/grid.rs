@@ -625,4 +625,34 @@ mod tests {
         assert!(!with(&[0.0, 1.0, 2.0, 0.5]).may_clamp);
         assert!(with(&[0.0, 1.0, -0.25, 0.5]).may_clamp);
     }
+
+    /// Only the background is negative (one full leaf of positive voxels):
+    /// lookups beyond the box read it, so the clamp must be on; a positive
+    /// or zero background leaves it off.
+    #[test]
+    fn a_negative_background_switches_the_clamp_on() {
+        let values = [0.5f32; 512];
+        let with = |background: f32| {
+            let t = GridTransform::scale_translate(
+                "UniformScaleMap",
+                glam::DVec3::splat(0.1),
+                glam::DVec3::ZERO,
+            )
+            .expect("transform");
+            let density = FloatGrid::from_dense_over(
+                "density",
+                IVec3::ZERO,
+                IVec3::splat(8),
+                &values,
+                background,
+                t,
+            )
+            .expect("grid");
+            assert_eq!(density.background(), background);
+            GridMedium::new(density, params(Affine3A::IDENTITY)).may_clamp
+        };
+        assert!(with(-0.25));
+        assert!(!with(0.0));
+        assert!(!with(0.25));
+    }
 }

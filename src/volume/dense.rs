@@ -20,6 +20,19 @@ impl FloatGrid {
         values: &[f32],
         transform: GridTransform,
     ) -> Option<FloatGrid> {
+        FloatGrid::from_dense_over(name, origin, dims, values, 0.0, transform)
+    }
+
+    /// [`FloatGrid::from_dense`] over `background`: the value outside the box,
+    /// held (inactive) by the leaf voxels beyond it too, as OpenVDB stores them.
+    pub fn from_dense_over(
+        name: &str,
+        origin: IVec3,
+        dims: IVec3,
+        values: &[f32],
+        background: f32,
+        transform: GridTransform,
+    ) -> Option<FloatGrid> {
         if dims.min_element() <= 0 {
             return None;
         }
@@ -36,7 +49,7 @@ impl FloatGrid {
                 for lz in leaf_lo.z..=leaf_hi.z {
                     let leaf_origin = IVec3::new(lx, ly, lz) << 3i32;
                     let mut mask = [0u64; 8];
-                    let mut leaf = [0.0f32; LEAF_VOXELS];
+                    let mut leaf = [background; LEAF_VOXELS];
                     for n in 0..LEAF_VOXELS {
                         let local =
                             IVec3::new((n >> 6) as i32, ((n >> 3) & 7) as i32, (n & 7) as i32);
@@ -54,7 +67,7 @@ impl FloatGrid {
                 }
             }
         }
-        builder.finish(name, 0.0, transform).ok()
+        builder.finish(name, background, transform).ok()
     }
 }
 
