@@ -32,3 +32,8 @@ pub mod split;
 pub mod texture;
 pub mod tonemap;
 pub mod volume;
+
+/// The test suite's one k (tests/common/k_sigma.rs), shared with the unit tests.
+#[cfg(test)]
+#[path = "../tests/common/k_sigma.rs"]
+pub(crate) mod suite_k;

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::stats::{k_sigma, two_sided_p, FAMILY_FALSE_ALARM};
+use common::k_sigma::{k_sigma, two_sided_p, FAMILY_FALSE_ALARM};
 use common::{assert_pixels, assert_pixels_equal, Estimate};
 
 fn est(mean: f64, se: f64) -> Estimate {

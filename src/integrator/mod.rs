@@ -418,9 +418,12 @@ mod tests {
                 assert_eq!(throughput, Rgb::new(1.0, 0.5, 0.2));
             }
         }
-        // One check at the suite's k(1) = 4.42 standard errors (tests/common/stats.rs).
+        // One check at the suite's k (tests/common/k_sigma.rs).
         let p = survived as f64 / n as f64;
         let se = (0.5f64 * 0.5 / n as f64).sqrt();
-        assert!((p - 0.5).abs() < 4.42 * se, "survival {p}");
+        assert!(
+            (p - 0.5).abs() < crate::suite_k::k_sigma(1) * se,
+            "survival {p}"
+        );
     }
 }

@@ -744,10 +744,10 @@ mod tests {
             &mut crate::sampling::Sampler::from_seed(1)
         ));
         assert_eq!(big, Rgb::splat(0.2));
-        // One check at the suite's k(1) = 4.42 standard errors (tests/common/stats.rs).
+        // One check at the suite's k (tests/common/k_sigma.rs).
         let p = survived as f64 / n as f64;
         assert!(
-            (p - 0.5).abs() < 4.42 * (0.25 / n as f64).sqrt(),
+            (p - 0.5).abs() < crate::suite_k::k_sigma(1) * (0.25 / n as f64).sqrt(),
             "survival {p}"
         );
     }

@@ -331,7 +331,7 @@ mod tests {
         }
         // Standard error of the mean of U(0,1) is sqrt(1/12)/sqrt(n).
         let se = (1.0f64 / 12.0).sqrt() / (n as f64).sqrt();
-        assert!((sum / n as f64 - 0.5).abs() < 4.0 * se);
+        assert!((sum / n as f64 - 0.5).abs() < crate::suite_k::k_sigma(1) * se);
     }
 
     #[test]

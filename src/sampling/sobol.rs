@@ -251,8 +251,8 @@ mod tests {
             s2y += p[1] as f64;
         }
         // Standard error of a uniform mean: 1/√(12 n); three checks at the
-        // suite's k(3) = 4.65 (tests/common/stats.rs, docs/testing.md).
-        let tolerance = 4.65 / (12.0 * n as f64).sqrt();
+        // suite's k (tests/common/k_sigma.rs, docs/testing.md).
+        let tolerance = crate::suite_k::k_sigma(3) / (12.0 * n as f64).sqrt();
         for (what, s) in [("1-D", s1), ("2-D x", s2x), ("2-D y", s2y)] {
             assert!(
                 (s / n as f64 - 0.5).abs() < tolerance,

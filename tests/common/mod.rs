@@ -10,6 +10,7 @@ use brume::sampling::Sampler;
 use std::path::Path;
 
 pub mod data;
+pub mod k_sigma;
 pub mod stats;
 
 #[allow(unused_imports)]
