@@ -319,6 +319,37 @@ mod tests {
         }
     }
 
+    /// The keys of pixels, samples and dimensions are independent only if
+    /// `mix64` avalanches: flipping any one input bit flips each output bit
+    /// with probability ½ (a mixer that only shifts left, say, never lets a
+    /// high input bit reach a low output bit).
+    #[test]
+    fn mix64_flips_each_output_bit_half_the_time_for_each_input_bit() {
+        let n = 4096;
+        let mut inputs = Sampler::from_seed(9);
+        let inputs: Vec<u64> = (0..n)
+            .map(|_| ((inputs.rng.next_u32() as u64) << 32) | inputs.rng.next_u32() as u64)
+            .collect();
+        // 64 × 64 frequencies, each a binomial proportion of n trials.
+        let tolerance = crate::suite_k::k_sigma(64 * 64) * (0.25 / n as f64).sqrt();
+        for bit in 0..64 {
+            let mut flips = [0u32; 64];
+            for &x in &inputs {
+                let d = mix64(x) ^ mix64(x ^ (1 << bit));
+                for (o, f) in flips.iter_mut().enumerate() {
+                    *f += ((d >> o) & 1) as u32;
+                }
+            }
+            for (o, &f) in flips.iter().enumerate() {
+                let p = f as f64 / n as f64;
+                assert!(
+                    (p - 0.5).abs() < tolerance,
+                    "input bit {bit}, output bit {o}: {p}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn uniform_mean_and_range() {
         let mut s = Sampler::from_seed(1);
