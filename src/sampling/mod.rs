@@ -242,6 +242,12 @@ mod tests {
         };
         assert_eq!(a, b);
         assert_ne!(a, c);
+        // Every pixel has its own streams: neighbours in x and in y, and far apart.
+        let first = |x, y| Sampler::new(7, x, y, 5).rng.next_u64();
+        let here = first(3, 4);
+        for (x, y) in [(4, 4), (3, 5), (3, 4 + (1 << 20)), (3 + (1 << 20), 4)] {
+            assert_ne!(here, first(x, y), "pixel ({x}, {y})");
+        }
     }
 
     #[test]
@@ -263,6 +269,9 @@ mod tests {
         );
         assert!((0.0..1.0).contains(&t));
         assert_ne!(t, Sampler::new(3, 1, 2, 10).time_1d());
+        // Far ahead: no number a path draws (here the first 100 000) is the time's.
+        let mut path = Sampler::new(3, 1, 2, 9);
+        assert!((0..100_000).all(|_| path.next_1d() != t || t == 0.0));
     }
 
     /// The first 2ᵐ samples of a `Sobol` pixel are stratified in every one of
@@ -348,6 +357,17 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `mix64` is a bijection, so distinct pixels, samples and dimensions get
+    /// distinct keys: 2²⁰ consecutive inputs give 2²⁰ distinct outputs (a
+    /// mixer that lost ~30 bits on the way would collide hundreds of times).
+    #[test]
+    fn mix64_gives_distinct_outputs_for_distinct_inputs() {
+        let mut outputs: Vec<u64> = (0..1u64 << 20).map(mix64).collect();
+        outputs.sort_unstable();
+        outputs.dedup();
+        assert_eq!(outputs.len(), 1 << 20);
     }
 
     #[test]
