@@ -199,12 +199,6 @@ impl Sampler<'_> {
         let u = self.independent_1d();
         glam::Vec2::new(u, self.independent_1d())
     }
-
-    /// Next uniform double in [0, 1), for tests needing more resolution.
-    #[inline]
-    pub fn next_f64(&mut self) -> f64 {
-        (self.rng.next_u64() >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
-    }
 }
 
 /// Power heuristic (β = 2) weight of strategy f against strategy g.
