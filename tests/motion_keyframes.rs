@@ -237,15 +237,30 @@ fn a_moving_growing_sphere_light_lights_the_floor_as_its_shutter_average() {
         transform = { keyframes = [{ time = -0.5, translate = [-1.0, 0.0, 0.0] }, \
         { time = 0.5, translate = [1.0, 0.0, 0.0], scale = 1.5 }] }";
     let scene = scene_from_str(&floor_scene(light));
-    for x0 in [0.0f32, 0.8] {
+    assert_floor_under_sphere_light(&scene, &[0.0, 0.8], 5, "sphere light", |t| {
+        let u = t + 0.5;
+        let s = 1.0 + 0.5 * u;
+        // The centre is scaled about the origin too: (0, s, 0) + (−1 + 2u, 0, 0).
+        (glam::DVec3::new(-1.0 + 2.0 * u, s, 0.0), 0.2 * s)
+    });
+}
+
+/// Asserts the radiance leaving the floor of `floor_scene` at each x in `xs`
+/// against its shutter average under a sphere light of radiance 4 whose
+/// centre and radius at time t are `sphere_at(t)` (always above the
+/// horizon: E = π L r²/d² · cos θ, averaged by Gauss–Legendre).
+fn assert_floor_under_sphere_light(
+    scene: &Scene,
+    xs: &[f32],
+    seed: u64,
+    what: &str,
+    sphere_at: impl Fn(f64) -> (glam::DVec3, f64),
+) {
+    for &x0 in xs {
         let e = brume::sampling::quadrature::gauss_legendre(
             |t| {
-                let u = t + 0.5;
-                let s = 1.0 + 0.5 * u;
-                // The centre is scaled about the origin too: (0, s, 0) + (−1 + 2u, 0, 0).
-                let c = glam::DVec3::new(-1.0 + 2.0 * u, s, 0.0);
+                let (c, r) = sphere_at(t);
                 let d = c - glam::DVec3::new(x0 as f64, 0.0, 0.0);
-                let r = 0.2 * s;
                 std::f64::consts::PI * (r * r / d.length_squared()) * (d.y / d.length())
             },
             -0.5,
@@ -253,12 +268,8 @@ fn a_moving_growing_sphere_light_lights_the_floor_as_its_shutter_average() {
             256,
         );
         let expected = 0.5 / std::f64::consts::PI * 4.0 * e;
-        let est = floor_estimate(&scene, x0, 40_000, 5);
-        common::assert_estimate(
-            &est,
-            [expected; 3],
-            &format!("sphere light, floor at x {x0}"),
-        );
+        let est = floor_estimate(scene, x0, 40_000, seed);
+        common::assert_estimate(&est, [expected; 3], &format!("{what}, floor at x {x0}"));
     }
 }
 
@@ -274,25 +285,9 @@ fn a_sphere_light_keyframed_away_from_where_it_is_written_is_weighed_where_it_is
         transform = { keyframes = [{ time = -0.5, translate = [-0.3, 1.25, 0.0] }, \
         { time = 0.5, translate = [0.3, 1.25, 0.0] }] }";
     let scene = scene_from_str(&floor_scene(light));
-    for x0 in [0.0f32, 0.5] {
-        let e = brume::sampling::quadrature::gauss_legendre(
-            |t| {
-                let c = glam::DVec3::new(0.6 * t, 1.5, 0.0);
-                let d = c - glam::DVec3::new(x0 as f64, 0.0, 0.0);
-                std::f64::consts::PI * (0.04 / d.length_squared()) * (d.y / d.length())
-            },
-            -0.5,
-            0.5,
-            256,
-        );
-        let expected = 0.5 / std::f64::consts::PI * 4.0 * e;
-        let est = floor_estimate(&scene, x0, 40_000, 7);
-        common::assert_estimate(
-            &est,
-            [expected; 3],
-            &format!("sphere light keyframed up, floor at x {x0}"),
-        );
-    }
+    assert_floor_under_sphere_light(&scene, &[0.0, 0.5], 7, "sphere light keyframed up", |t| {
+        (glam::DVec3::new(0.6 * t, 1.5, 0.0), 0.2)
+    });
 }
 
 #[test]
