@@ -468,7 +468,7 @@ fn render_pixel(
     cancel: &AtomicBool,
 ) -> Option<Pixel> {
     let mut px = Pixel::default();
-    let streams = PixelStreams::new(scene.settings.sampler, scene.settings.seed, x, y);
+    let streams = scene.settings.pixel_streams(x, y);
     for s in first..first + count {
         if cancel.load(Ordering::Relaxed) {
             return None;
@@ -480,9 +480,7 @@ fn render_pixel(
 
 /// Radiance of sample `s` of pixel (x, y): the same value whatever renders it.
 pub fn pixel_sample(scene: &Scene, x: u32, y: u32, s: u32) -> Rgb {
-    let settings = &scene.settings;
-    let streams = PixelStreams::new(settings.sampler, settings.seed, x, y);
-    stream_sample(scene, x, y, &streams, s)
+    stream_sample(scene, x, y, &scene.settings.pixel_streams(x, y), s)
 }
 
 /// [`pixel_sample`] given the pixel's streams, hashed once for all its samples.
@@ -518,7 +516,7 @@ pub fn render_aovs(
         film.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
             for (x, px) in row.iter_mut().enumerate() {
                 let (x, y) = (x as u32, y as u32);
-                let beauty = PixelStreams::new(scene.settings.sampler, scene.settings.seed, x, y);
+                let beauty = scene.settings.pixel_streams(x, y);
                 for s in 0..spp {
                     px.add(&aov_sample(scene, x, y, &beauty, s));
                 }

@@ -7,7 +7,6 @@ use analytic_support::{k_sigma, scene_from_str};
 use brume::integrator::aov::{aov_sample, Aov};
 use brume::math::Vec3;
 use brume::render::render_aovs;
-use brume::sampling::PixelStreams;
 
 /// Channel `name` of a render_aovs result.
 fn channel<'a>(layers: &'a [(String, Vec<f32>)], name: &str) -> &'a [f32] {
@@ -83,9 +82,8 @@ fn sphere_normals_are_the_analytic_normals_of_each_camera_ray() {
     let (mut hits, mut misses) = (0, 0);
     for y in 0..16 {
         for x in 0..16 {
+            let streams = scene.settings.pixel_streams(x, y);
             for s in 0..4 {
-                let settings = &scene.settings;
-                let streams = PixelStreams::new(settings.sampler, settings.seed, x, y);
                 let ray = scene
                     .camera
                     .generate_ray(x, y, streams.sampler(s as u64).next_2d());
@@ -307,8 +305,7 @@ fn a_scattering_point_has_the_camera_space_depth_of_its_distance() {
     let forward = Vec3::new(0.0, 0.0, -1.0);
     let n = 8192;
     let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-    let settings = &scene.settings;
-    let streams = PixelStreams::new(settings.sampler, settings.seed, 0, 0);
+    let streams = scene.settings.pixel_streams(0, 0);
     for s in 0..n {
         let ray = scene
             .camera

@@ -18,7 +18,7 @@ use crate::light::{Light, LightPick};
 use crate::material::{Material, Shading};
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
-use crate::sampling::{power_heuristic, Sampler, SamplerKind};
+use crate::sampling::{power_heuristic, PixelStreams, Sampler, SamplerKind};
 use crate::texture::Texture;
 use direct::{direct_light, Vertex};
 pub use tracking::TransmittanceEstimator;
@@ -56,6 +56,11 @@ impl Settings {
             Some([open, close]) => open + (close - open) * u,
             None => 0.0,
         }
+    }
+
+    /// The random streams of pixel `(x, y)`: this scene's sampler and seed.
+    pub fn pixel_streams(&self, x: u32, y: u32) -> PixelStreams {
+        PixelStreams::new(self.sampler, self.seed, x, y)
     }
 }
 

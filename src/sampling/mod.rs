@@ -90,8 +90,8 @@ struct SobolState<'k> {
 /// sampler, the keys of each dimension, hashed once for all the samples.
 #[derive(Clone, Debug)]
 pub struct PixelStreams {
-    seed: u64,
-    pixel: u64,
+    /// The key of the pixel's PCG streams ([`Sampler::keyed`]).
+    pcg_key: u64,
     sobol_keys: Option<[u64; SOBOL_DIMENSIONS as usize]>,
 }
 
@@ -104,8 +104,7 @@ impl PixelStreams {
             std::array::from_fn(|d| sobol::dimension_key(pixel_key, d as u32))
         });
         PixelStreams {
-            seed,
-            pixel,
+            pcg_key: mix64(seed ^ pixel),
             sobol_keys,
         }
     }
@@ -113,7 +112,7 @@ impl PixelStreams {
     /// The stream of sample `sample_index` of this pixel.
     #[inline]
     pub fn sampler(&self, sample_index: u64) -> Sampler<'_> {
-        let mut sampler = Sampler::keyed(self.seed, self.pixel, sample_index);
+        let mut sampler = Sampler::keyed(self.pcg_key, sample_index);
         if let Some(keys) = &self.sobol_keys {
             sampler.sobol = Some(SobolState {
                 keys,
@@ -136,12 +135,11 @@ pub struct Sampler<'k> {
 impl Sampler<'static> {
     /// The independent stream for sample `sample_index` of pixel `(x, y)` under scene seed `seed`.
     pub fn new(seed: u64, x: u32, y: u32, sample_index: u64) -> Sampler<'static> {
-        Sampler::keyed(seed, pixel_hash(x, y), sample_index)
+        Sampler::keyed(mix64(seed ^ pixel_hash(x, y)), sample_index)
     }
 
-    /// [`Sampler::new`] from the pixel's hash, [`pixel_hash`]`(x, y)`.
-    fn keyed(seed: u64, pixel: u64, sample_index: u64) -> Sampler<'static> {
-        let pixel_key = mix64(seed ^ pixel);
+    /// [`Sampler::new`] from the pixel's key, `mix64(seed ^ pixel_hash(x, y))`.
+    fn keyed(pixel_key: u64, sample_index: u64) -> Sampler<'static> {
         let state = mix64(pixel_key ^ mix64(sample_index.wrapping_mul(0xD1B5_4A32_D192_ED03)));
         let stream = mix64(pixel_key.rotate_left(17) ^ sample_index);
         Sampler {
