@@ -324,6 +324,42 @@ mod tests {
     /// `mix64` avalanches: flipping any one input bit flips each output bit
     /// with probability ½ (a mixer that only shifts left, say, never lets a
     /// high input bit reach a low output bit).
+    /// The 24 + 24 bits of a `Sobol` pair, over the first sample of many
+    /// pixels, take every value of every parity: they span all 48 dimensions
+    /// of their space over GF(2) (affinely, as differences from one sample).
+    /// Each pair's second coordinate has its own shift; with the first's
+    /// shift reused, x ⊕ y = (I ⊕ C)·r for the Sobol' point r and the second
+    /// dimension's Pascal matrix C, whose rows 0–23 have rank 16: eight
+    /// parities of the pair's bits (bit 15 ⊕ bit 23 of x ⊕ y, for one) would
+    /// be 0 in every pixel. Uniformity and net tests cannot see that.
+    #[test]
+    fn the_bits_of_a_sobol_pair_span_their_whole_space_over_pixels() {
+        let bits = |v: f32| (v * 16_777_216.0) as u64;
+        for dimension in [0, 2, SOBOL_DIMENSIONS - 2] {
+            let vectors: Vec<u64> = (0..256)
+                .map(|pixel| {
+                    let streams = PixelStreams::new(SamplerKind::Sobol, 5, pixel, 3);
+                    let mut sampler = streams.sampler(0);
+                    for _ in 0..dimension {
+                        sampler.next_1d();
+                    }
+                    let [x, y] = sampler.next_2d().to_array();
+                    bits(x) << 24 | bits(y)
+                })
+                .collect();
+            // Gaussian elimination over GF(2) on the differences from the first.
+            let mut basis: Vec<u64> = Vec::new();
+            for v in vectors.iter().map(|v| v ^ vectors[0]) {
+                let reduced = basis.iter().fold(v, |r, b| r.min(r ^ b));
+                if reduced != 0 {
+                    basis.push(reduced);
+                    basis.sort_unstable_by(|a, b| b.cmp(a));
+                }
+            }
+            assert_eq!(basis.len(), 48, "pair at dimension {dimension}");
+        }
+    }
+
     #[test]
     fn mix64_flips_each_output_bit_half_the_time_for_each_input_bit() {
         let n = 4096;
