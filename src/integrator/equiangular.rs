@@ -219,3 +219,97 @@ pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) 
     let weight = eq * eq / (eq * eq + ff * ff);
     media.tr * media.in_scatter * tr_light * ls.radiance * (weight / eq)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// A point light at `light` (and one at the origin) in `medium`, seen along +x from (−5, 0, 0).
+    fn scene_and_ray(light: [f32; 3], medium: &str) -> (Scene, Ray) {
+        let text = format!(
+            r#"
+            [camera]
+            position = [0.0, 0.0, 4.0]
+            look_at = [0.0, 0.0, 0.0]
+            [[light]]
+            type = "point"
+            position = {light:?}
+            intensity = 1.0
+            [[light]]
+            type = "point"
+            position = [0.0, 0.0, 0.0]
+            intensity = 1.0
+            [[medium]]
+            {medium}
+            "#
+        );
+        let file = Path::new("equiangular-test.toml");
+        let desc = crate::scene::parse(&text, file).expect("parse");
+        let scene = crate::scene::build(&desc, file, Path::new(".")).expect("build");
+        (scene, Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X))
+    }
+
+    fn global(sigma_a: f32) -> String {
+        format!("type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nsigma_s = 0.0\nglobal = true")
+    }
+
+    fn close(a: f32, b: f32) -> bool {
+        (a - b).abs() <= 1e-6 * b.abs()
+    }
+
+    #[test]
+    fn a_thin_global_medium_is_covered_to_far_past_the_farthest_light() {
+        // The light at (2, 3, 0) is √58 from the ray's origin, the other one 5.
+        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &global(1e-5));
+        let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
+        assert_eq!(segment.point_lights, 2);
+        assert_eq!(segment.t0, 0.0);
+        let far = 58f32.sqrt() * (1.0 + FAR);
+        assert!(
+            close(segment.t1, far),
+            "t1 = {}, expected {far}",
+            segment.t1
+        );
+    }
+
+    #[test]
+    fn a_dense_global_medium_is_cut_where_its_optical_depth_reaches_the_cut() {
+        let sigma = 0.5;
+        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &global(sigma));
+        let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
+        // The far end halved until half of it would fall short of the cut.
+        let far = 58f32.sqrt() * (1.0 + FAR);
+        let halvings = (far / segment.t1).log2();
+        assert!(
+            close(halvings.round().exp2() * segment.t1, far),
+            "t1 = {} is not the far end {far} halved",
+            segment.t1
+        );
+        assert!(sigma * segment.t1 >= TAU_CUT, "t1 = {}", segment.t1);
+        assert!(sigma * segment.t1 * 0.5 < TAU_CUT, "t1 = {}", segment.t1);
+    }
+
+    #[test]
+    fn a_bounded_medium_is_covered_from_where_the_ray_enters_it() {
+        let (scene, ray) = scene_and_ray(
+            [2.0, 3.0, 0.0],
+            "type = \"homogeneous\"\nsigma_a = 1e-5\nsigma_s = 0.0\nbounds = { type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }",
+        );
+        let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
+        assert!(
+            close(segment.t0, 4.0) && close(segment.t1, 6.0),
+            "{segment:?}"
+        );
+        // A surface in front of the medium leaves nothing to sample.
+        assert!(super::segment(&scene, &ray, 3.0).is_none());
+    }
+
+    #[test]
+    fn a_segment_is_never_empty() {
+        // Both lights at the ray's origin: the interval [0, 0] is no segment.
+        let (scene, _) = scene_and_ray([0.0, 0.0, 0.0], &global(0.1));
+        let ray = Ray::new(Vec3::ZERO, Vec3::X);
+        assert!(segment(&scene, &ray, f32::INFINITY).is_none());
+    }
+}
