@@ -65,3 +65,29 @@ fn equiangular_and_free_flight_agree_and_equiangular_lowers_variance() {
         }
     }
 }
+
+/// A point light a hundred-thousandth below a ceiling: the shadow rays of
+/// both strategies must stop short of the light, not reach the ceiling
+/// behind it, so the two agree (with the equiangular connection running on
+/// past the light by 10⁻⁴ of its length, its samples would all be blocked).
+#[test]
+fn a_point_light_just_below_a_ceiling_lights_the_medium_alike_either_way() {
+    let light = format!(
+        "{POINT}[[shape]]\ntype = \"quad\"\ncenter = [0.0, 0.30001, 0.0]\nnormal = [0.0, -1.0, 0.0]\nsize = [0.5, 0.5]\nmaterial = {{ type = \"diffuse\", albedo = 0.0 }}\n"
+    );
+    let max_scatter = "max_scatter_depth = 1";
+    let ray = Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X);
+    let without = estimate_ray(
+        &scene_from_str(&scene_text(false, max_scatter, &light)),
+        ray,
+        100_000,
+        5,
+    );
+    let with = estimate_ray(
+        &scene_from_str(&scene_text(true, max_scatter, &light)),
+        ray,
+        100_000,
+        6,
+    );
+    assert_same(&without, &with, "point light under a ceiling");
+}

@@ -274,20 +274,28 @@ mod tests {
     }
 
     #[test]
-    fn a_dense_global_medium_is_cut_where_its_optical_depth_reaches_the_cut() {
+    fn a_dense_medium_is_cut_where_its_optical_depth_reaches_the_cut() {
         let sigma = 0.5;
-        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &global(sigma));
-        let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
-        // The far end halved until half of it would fall short of the cut.
         let far = 58f32.sqrt() * (1.0 + FAR);
-        let halvings = (far / segment.t1).log2();
-        assert!(
-            close(halvings.round().exp2() * segment.t1, far),
-            "t1 = {} is not the far end {far} halved",
-            segment.t1
+        let bounded = format!(
+            "type = \"homogeneous\"\nsigma_a = {sigma:?}\nsigma_s = 0.0\nbounds = {{ type = \"box\", min = [-1.0, -10.0, -10.0], max = [1000.0, 10.0, 10.0] }}"
         );
-        assert!(sigma * segment.t1 >= TAU_CUT, "t1 = {}", segment.t1);
-        assert!(sigma * segment.t1 * 0.5 < TAU_CUT, "t1 = {}", segment.t1);
+        // (medium, where it starts, where the interval would end uncut)
+        for (medium, start, end) in [(global(sigma), 0.0, far), (bounded, 4.0, 1005.0)] {
+            let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &medium);
+            let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
+            assert!(close(segment.t0, start), "{segment:?}");
+            // The stretch from the start halved until half of it would fall short of the cut.
+            let (length, full) = (segment.t1 - start, end - start);
+            let halvings = (full / length).log2();
+            assert!(
+                close(halvings.round().exp2() * length, full),
+                "t1 = {} is not {start} + ({end} - {start}) halved",
+                segment.t1
+            );
+            assert!(sigma * length >= TAU_CUT, "t1 = {}", segment.t1);
+            assert!(sigma * length * 0.5 < TAU_CUT, "t1 = {}", segment.t1);
+        }
     }
 
     #[test]
@@ -303,6 +311,30 @@ mod tests {
         );
         // A surface in front of the medium leaves nothing to sample.
         assert!(super::segment(&scene, &ray, 3.0).is_none());
+    }
+
+    #[test]
+    fn a_free_flight_vertex_is_weighed_by_the_power_heuristic_of_the_two_densities() {
+        let (sigma_a, sigma_s) = (0.05f32, 0.2f32);
+        let medium = format!(
+            "type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nsigma_s = {sigma_s:?}\nglobal = true"
+        );
+        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &medium);
+        let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
+        let sigma_t = sigma_a + sigma_s;
+        // The light at (2, 3, 0) is 3 from the ray, its foot 7 along it.
+        let angle = |t: f32| ((t - 7.0) / 3.0).atan();
+        for t in [1.0f32, 6.0, 7.5, 30.0] {
+            let equiangular =
+                3.0 / ((angle(segment.t1) - angle(segment.t0)) * (9.0 + (t - 7.0).powi(2))) / 2.0;
+            let free_flight = sigma_t * (-sigma_t * t).exp() * scene.light_pick_probability(0);
+            let expected = free_flight.powi(2) / (free_flight.powi(2) + equiangular.powi(2));
+            let weight = free_flight_weight(&scene, &segment, 0, t);
+            assert!(
+                (weight - expected).abs() <= 1e-5,
+                "t = {t}: weight {weight}, power heuristic {expected}"
+            );
+        }
     }
 
     #[test]
