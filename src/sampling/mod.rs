@@ -418,5 +418,10 @@ mod tests {
         let (a, b) = (0.3, 1.7);
         assert!((power_heuristic(a, b) + power_heuristic(b, a) - 1.0).abs() < 1e-6);
         assert_eq!(power_heuristic(f32::INFINITY, 1.0), 1.0);
+        // A strategy the other cannot produce keeps everything, and two that
+        // cannot produce the sample share nothing (0, not 0/0).
+        assert_eq!(power_heuristic(0.5, 0.0), 1.0);
+        assert_eq!(power_heuristic(0.0, 0.5), 0.0);
+        assert_eq!(power_heuristic(0.0, 0.0), 0.0);
     }
 }
