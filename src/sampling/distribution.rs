@@ -38,14 +38,9 @@ impl Distribution1D {
         })
     }
 
-    /// Number of cells.
-    pub fn len(&self) -> usize {
+    /// Number of cells (at least one: `new` refuses an empty function).
+    fn cells(&self) -> usize {
         self.func.len()
-    }
-
-    /// True with no cells (never for a built distribution).
-    pub fn is_empty(&self) -> bool {
-        self.func.is_empty()
     }
 
     /// Integral of the unnormalized function over [0, 1).
@@ -53,9 +48,9 @@ impl Distribution1D {
         self.integral
     }
 
-    /// Density at `x` ∈ [0, 1).
+    /// Density at `x` ∈ [0, 1] (x = 1, where a direction's coordinate can round, is in the last cell).
     pub fn pdf(&self, x: f32) -> f32 {
-        let i = ((x * self.len() as f32) as usize).min(self.len() - 1);
+        let i = ((x * self.cells() as f32) as usize).min(self.cells() - 1);
         self.func[i] / self.integral
     }
 
@@ -66,14 +61,14 @@ impl Distribution1D {
             .cdf
             .partition_point(|&c| c <= u)
             .saturating_sub(1)
-            .min(self.len() - 1);
+            .min(self.cells() - 1);
         let width = self.cdf[i + 1] - self.cdf[i];
         let t = if width > 0.0 {
             ((u - self.cdf[i]) / width).clamp(0.0, 1.0)
         } else {
             0.0
         };
-        let x = ((i as f32 + t) / self.len() as f32).min(1.0 - f32::EPSILON);
+        let x = ((i as f32 + t) / self.cells() as f32).min(1.0 - f32::EPSILON);
         (x, self.func[i] / self.integral, i)
     }
 }
@@ -116,7 +111,7 @@ impl Distribution2D {
         (Vec2::new(x, y), pdf_x * pdf_y)
     }
 
-    /// Density at `p` ∈ [0, 1)².
+    /// Density at `p` ∈ [0, 1]² (coordinates of 1 fall in the last cells).
     pub fn pdf(&self, p: Vec2) -> f32 {
         let row = ((p.y * self.rows.len() as f32) as usize).min(self.rows.len() - 1);
         let pdf_y = self.marginal.pdf(p.y);
@@ -171,6 +166,23 @@ mod tests {
             let (p, pdf) = d.sample(s.next_2d());
             assert!((pdf - d.pdf(p)).abs() < 1e-5 * pdf, "{p}");
             assert!(pdf > 0.0);
+        }
+    }
+
+    #[test]
+    fn coordinates_of_one_fall_in_the_last_cells() {
+        let d = Distribution1D::new(&[1.0, 0.0, 3.0]).unwrap();
+        assert_eq!(d.pdf(1.0), d.pdf(0.9));
+        assert_eq!(d.pdf(1.0), 3.0 / (4.0 / 3.0));
+        // 2 × 2, rows from y = 0: the last cell in both coordinates weighs 4 of 10.
+        let d = Distribution2D::new(&[1.0, 2.0, 3.0, 4.0], 2, 2).unwrap();
+        let last = 4.0 / (10.0 / 4.0);
+        for p in [
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.75, 1.0),
+            Vec2::new(1.0, 0.75),
+        ] {
+            assert!((d.pdf(p) - last).abs() < 1e-6, "{p}: {}", d.pdf(p));
         }
     }
 }
