@@ -184,5 +184,15 @@ mod tests {
         ] {
             assert!((d.pdf(p) - last).abs() < 1e-6, "{p}: {}", d.pdf(p));
         }
+        // And samples stay below 1: where the last cell is heavier than the
+        // average, (n − 1 + t)/n rounds up to 1 for the largest u.
+        let u = 1.0 - f32::EPSILON / 2.0;
+        for weights in [&[1.0, 3.0][..], &[1.0, 1.0, 10.0], &[1.0, 1.0, 1.0, 100.0]] {
+            let (x, _, i) = Distribution1D::new(weights).unwrap().sample(u);
+            assert!(
+                x < 1.0 && i == weights.len() - 1,
+                "{weights:?}: x = {x} in cell {i}"
+            );
+        }
     }
 }
