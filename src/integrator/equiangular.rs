@@ -250,8 +250,19 @@ mod tests {
         (scene, Ray::new(Vec3::new(-5.0, 0.0, 0.0), Vec3::X))
     }
 
-    fn global(sigma_a: f32) -> String {
-        format!("type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nsigma_s = 0.0\nglobal = true")
+    /// A homogeneous medium filling all space.
+    fn global(sigma_a: f32, sigma_s: f32) -> String {
+        format!(
+            "type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nsigma_s = {sigma_s:?}\nglobal = true"
+        )
+    }
+
+    /// A purely absorbing homogeneous medium inside the box [min, max].
+    fn in_box(sigma_a: f32, min: [f32; 3], max: [f32; 3]) -> String {
+        format!(
+            "type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nsigma_s = 0.0\n\
+             bounds = {{ type = \"box\", min = {min:?}, max = {max:?} }}"
+        )
     }
 
     fn close(a: f32, b: f32) -> bool {
@@ -261,7 +272,7 @@ mod tests {
     #[test]
     fn a_thin_global_medium_is_covered_to_far_past_the_farthest_light() {
         // The light at (2, 3, 0) is √58 from the ray's origin, the other one 5.
-        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &global(1e-5));
+        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &global(1e-5, 0.0));
         let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
         assert_eq!(segment.point_lights, 2);
         assert_eq!(segment.t0, 0.0);
@@ -277,11 +288,9 @@ mod tests {
     fn a_dense_medium_is_cut_where_its_optical_depth_reaches_the_cut() {
         let sigma = 0.5;
         let far = 58f32.sqrt() * (1.0 + FAR);
-        let bounded = format!(
-            "type = \"homogeneous\"\nsigma_a = {sigma:?}\nsigma_s = 0.0\nbounds = {{ type = \"box\", min = [-1.0, -10.0, -10.0], max = [1000.0, 10.0, 10.0] }}"
-        );
+        let bounded = in_box(sigma, [-1.0, -10.0, -10.0], [1000.0, 10.0, 10.0]);
         // (medium, where it starts, where the interval would end uncut)
-        for (medium, start, end) in [(global(sigma), 0.0, far), (bounded, 4.0, 1005.0)] {
+        for (medium, start, end) in [(global(sigma, 0.0), 0.0, far), (bounded, 4.0, 1005.0)] {
             let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &medium);
             let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
             assert!(close(segment.t0, start), "{segment:?}");
@@ -300,10 +309,8 @@ mod tests {
 
     #[test]
     fn a_bounded_medium_is_covered_from_where_the_ray_enters_it() {
-        let (scene, ray) = scene_and_ray(
-            [2.0, 3.0, 0.0],
-            "type = \"homogeneous\"\nsigma_a = 1e-5\nsigma_s = 0.0\nbounds = { type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }",
-        );
+        let medium = in_box(1e-5, [-1.0; 3], [1.0; 3]);
+        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &medium);
         let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
         assert!(
             close(segment.t0, 4.0) && close(segment.t1, 6.0),
@@ -316,10 +323,7 @@ mod tests {
     #[test]
     fn a_free_flight_vertex_is_weighed_by_the_power_heuristic_of_the_two_densities() {
         let (sigma_a, sigma_s) = (0.05f32, 0.2f32);
-        let medium = format!(
-            "type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nsigma_s = {sigma_s:?}\nglobal = true"
-        );
-        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &medium);
+        let (scene, ray) = scene_and_ray([2.0, 3.0, 0.0], &global(sigma_a, sigma_s));
         let segment = segment(&scene, &ray, f32::INFINITY).expect("a segment");
         let sigma_t = sigma_a + sigma_s;
         // The light at (2, 3, 0) is 3 from the ray, its foot 7 along it.
@@ -340,7 +344,7 @@ mod tests {
     #[test]
     fn a_segment_is_never_empty() {
         // Both lights at the ray's origin: the interval [0, 0] is no segment.
-        let (scene, _) = scene_and_ray([0.0, 0.0, 0.0], &global(0.1));
+        let (scene, _) = scene_and_ray([0.0, 0.0, 0.0], &global(0.1, 0.0));
         let ray = Ray::new(Vec3::ZERO, Vec3::X);
         assert!(segment(&scene, &ray, f32::INFINITY).is_none());
     }

@@ -320,10 +320,6 @@ mod tests {
         }
     }
 
-    /// The keys of pixels, samples and dimensions are independent only if
-    /// `mix64` avalanches: flipping any one input bit flips each output bit
-    /// with probability ½ (a mixer that only shifts left, say, never lets a
-    /// high input bit reach a low output bit).
     /// The 24 + 24 bits of a `Sobol` pair, over the first sample of many
     /// pixels, take every value of every parity: they span all 48 dimensions
     /// of their space over GF(2) (affinely, as differences from one sample).
@@ -360,6 +356,10 @@ mod tests {
         }
     }
 
+    /// The keys of pixels, samples and dimensions are independent only if
+    /// `mix64` avalanches: flipping any one input bit flips each output bit
+    /// with probability ½ (a mixer that only shifts left, say, never lets a
+    /// high input bit reach a low output bit).
     #[test]
     fn mix64_flips_each_output_bit_half_the_time_for_each_input_bit() {
         let n = 4096;
