@@ -233,6 +233,19 @@ mod tests {
         }
     }
 
+    /// Every dimension of a pixel gets its own key, whatever the pixel's key:
+    /// xor with distinct multiples of an odd constant is one to one, and so is
+    /// `mix64`. Pixel keys with every bit set or none are the edge cases.
+    #[test]
+    fn dimension_keys_of_a_pixel_are_distinct() {
+        for pixel_key in [0, u64::MAX, 0xaaaa_aaaa_aaaa_aaaa, super::super::mix64(7)] {
+            let mut keys: Vec<u64> = (0..1024).map(|d| dimension_key(pixel_key, d)).collect();
+            keys.sort_unstable();
+            keys.dedup();
+            assert_eq!(keys.len(), 1024, "pixel key {pixel_key:x}");
+        }
+    }
+
     /// Different keys give different points (the scrambles are keyed), and the
     /// mean over many keys of one sample is ½ in each dimension (uniform marginals).
     #[test]

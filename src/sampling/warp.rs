@@ -69,12 +69,6 @@ pub fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
     }
 }
 
-/// Exponential free-flight distance with rate `sigma` for uniform `u` in [0, 1).
-#[inline]
-pub fn sample_exponential(u: f32, sigma: f32) -> f32 {
-    -(1.0 - u).ln() / sigma
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -106,6 +100,82 @@ mod tests {
             }
         };
         assert!((sphere_integral(cone) - 1.0).abs() < 0.03);
+    }
+
+    /// The concentric map sends the square's centre to the disk's and the
+    /// square's axes (where one of the two ratios is 0/0 or the early return
+    /// decides) onto the disk's axes, at their own radius.
+    #[test]
+    fn the_concentric_map_keeps_centre_and_axes() {
+        let cases = [
+            ((0.5, 0.5), (0.0, 0.0)),
+            ((0.5, 0.75), (0.0, 0.5)),
+            ((0.75, 0.5), (0.5, 0.0)),
+            ((0.5, 0.0), (0.0, -1.0)),
+            ((0.0, 0.5), (-1.0, 0.0)),
+        ];
+        for ((ux, uy), (x, y)) in cases {
+            let d = square_to_concentric_disk(Vec2::new(ux, uy));
+            assert!(
+                (d - Vec2::new(x, y)).length() < 1e-6,
+                "({ux}, {uy}) -> {d}, expected ({x}, {y})"
+            );
+        }
+    }
+
+    /// The concentric map is continuous (its advantage over the polar map):
+    /// points of the square 10⁻³ apart, across the diagonals where its two
+    /// branches meet, land at most a few 10⁻³ apart on the disk.
+    #[test]
+    fn the_concentric_map_is_continuous_across_its_branches() {
+        let step = 1e-3;
+        let n = 200;
+        for i in 0..=n {
+            for j in 0..=n {
+                let u = Vec2::new(i as f32, j as f32) * (1.0 / n as f32) * (1.0 - step);
+                let here = square_to_concentric_disk(u);
+                for du in [Vec2::new(step, 0.0), Vec2::new(0.0, step)] {
+                    let there = square_to_concentric_disk(u + du);
+                    // |∂/∂u| ≤ 2·√(1 + π²/16) ≈ 2.54 (o = 2u − 1; r = o_x, θ = π/4·o_y/o_x).
+                    assert!(
+                        (there - here).length() <= 3.2 * step,
+                        "{u} -> {here}, {} -> {there}",
+                        u + du
+                    );
+                }
+            }
+        }
+    }
+
+    /// Uniform barycentrics put a quarter of the samples in each of the four
+    /// triangles cut by the edges' midpoints (one per corner, one in the
+    /// middle): each half of the square must map onto its own half of the
+    /// triangle with the same density.
+    #[test]
+    fn triangle_samples_fill_the_four_midpoint_triangles_equally() {
+        let n = 100_000;
+        let mut s = Sampler::from_seed(17);
+        let mut counts = [0u32; 4];
+        for _ in 0..n {
+            let b = square_to_uniform_triangle(s.next_2d());
+            let third = 1.0 - b.x - b.y;
+            let cell = if b.x > 0.5 {
+                0
+            } else if b.y > 0.5 {
+                1
+            } else if third > 0.5 {
+                2
+            } else {
+                3
+            };
+            counts[cell] += 1;
+        }
+        // Four binomial proportions at the suite's k (tests/common/k_sigma.rs).
+        let tolerance = crate::suite_k::k_sigma(4) * (0.25 * 0.75 / n as f64).sqrt();
+        for (cell, &c) in counts.iter().enumerate() {
+            let p = c as f64 / n as f64;
+            assert!((p - 0.25).abs() < tolerance, "triangle {cell}: {p}");
+        }
     }
 
     #[test]
