@@ -709,8 +709,13 @@ mod tests {
         let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
         let mut sampler = crate::sampling::Sampler::from_seed(4);
         let before = capped_rays();
+        take_thread_stats();
         let capped =
             ratio_tracking_scaled_majorant(&medium, &ray, f32::INFINITY, 1e6, &mut sampler);
+        assert_eq!(
+            take_thread_stats().collisions,
+            MAX_TENTATIVE_COLLISIONS as u64
+        );
         assert_eq!(
             capped,
             Rgb::BLACK,
@@ -720,6 +725,81 @@ mod tests {
         assert!(capped_rays() > before);
         let under = ratio_tracking_scaled_majorant(&medium, &ray, f32::INFINITY, 1e3, &mut sampler);
         assert!(under.max_channel() > 0.0);
+    }
+
+    /// Residual ratio tracking takes the control part in closed form and
+    /// collides only against the residual majorant σ̄ − min(σc): none at all
+    /// through a grey homogeneous medium (σc = σt = σ̄), and a Poisson number
+    /// of mean (σ̄ − min σc)·L through a chromatic one. Either way every
+    /// estimate is exact, since the residual σt − σc is zero.
+    #[test]
+    fn residual_ratio_tracking_collides_against_the_residual_majorant_only() {
+        let unit_box = |sigma_a: Rgb| {
+            Medium::Homogeneous(HomogeneousMedium {
+                sigma_a,
+                sigma_s: Rgb::splat(0.25),
+                emission: Rgb::BLACK,
+                phase: PhaseFunction::Isotropic,
+                region: Region::Box {
+                    world_to_local: Affine3A::IDENTITY,
+                    local: Bounds3::new(Vec3::splat(-0.5), Vec3::splat(0.5)),
+                },
+            })
+        };
+        let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+        let rays = 4000;
+        let mut sampler = crate::sampling::Sampler::from_seed(6);
+        for (sigma_a, residual_majorant) in
+            [(Rgb::splat(0.5), 0.0), (Rgb::new(0.25, 0.75, 1.25), 1.0)]
+        {
+            let medium = unit_box(sigma_a);
+            let expected = (sigma_a + Rgb::splat(0.25)).map(|s| (-s).exp());
+            take_thread_stats();
+            for _ in 0..rays {
+                let tr = residual_ratio_tracking(&medium, &ray, f32::INFINITY, &mut sampler);
+                for c in 0..3 {
+                    assert!((tr[c] - expected[c]).abs() < 1e-5, "{tr:?} vs {expected:?}");
+                }
+            }
+            let collisions = take_thread_stats().collisions as f64;
+            // Poisson count of mean λ = rays·σ̄r·L; one check at the suite's k.
+            let mean = rays as f64 * residual_majorant;
+            assert!(
+                (collisions - mean).abs() <= crate::suite_k::k_sigma(1) * mean.sqrt(),
+                "σa {sigma_a:?}: {collisions} collisions, expected {mean}"
+            );
+        }
+    }
+
+    /// Residual ratio tracking has its own collision count: a segment whose
+    /// residual majorant would take about 2·10⁵ collisions (σt = (0, 0, 2·10⁵)
+    /// over one unit, so σ̄ − min σc = 2·10⁵) is ended at the cap, returns 0
+    /// and is counted, instead of the exact (1, 1, 0) it would reach, after
+    /// exactly as many collisions as the tracker allows.
+    #[test]
+    fn a_residual_ratio_ray_past_the_collision_cap_is_ended_and_counted() {
+        let medium = Medium::Homogeneous(HomogeneousMedium {
+            sigma_a: Rgb::new(0.0, 0.0, 2e5),
+            sigma_s: Rgb::BLACK,
+            emission: Rgb::BLACK,
+            phase: PhaseFunction::Isotropic,
+            region: Region::Box {
+                world_to_local: Affine3A::IDENTITY,
+                local: Bounds3::new(Vec3::splat(-0.5), Vec3::splat(0.5)),
+            },
+        });
+        let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+        let mut sampler = crate::sampling::Sampler::from_seed(2);
+        let before = capped_rays();
+        take_thread_stats();
+        let tr = residual_ratio_tracking(&medium, &ray, f32::INFINITY, &mut sampler);
+        assert_eq!(tr, Rgb::BLACK);
+        assert!(capped_rays() > before);
+        // The same cap as the tracker's: that many collisions, not one fewer.
+        assert_eq!(
+            take_thread_stats().collisions,
+            MAX_TENTATIVE_COLLISIONS as u64
+        );
     }
 
     /// Roulette on a tracking weight below the threshold keeps it with
