@@ -425,3 +425,35 @@ fn an_exact_walk_past_the_step_cap_is_ended() {
         "a capped free flight ends the path: {out:?}, {throughput:?}"
     );
 }
+
+/// In `Auto` mode one ray can cross thin cells (ratio tracking) and then
+/// dense ones (the exact walk): the transmittance is the product over all
+/// of them, each segment picking up the weight the previous ones left.
+/// A grid thin (density 0.002) for 156 voxels, dense (1) for the last 4, at
+/// scale 25: 0.0025 and 1.25 expected collisions a voxel.
+#[test]
+fn auto_transmittance_through_thin_then_dense_cells_is_unbiased() {
+    let dims = IVec3::new(160, 4, 4);
+    let values: Vec<f32> = (0..dims.x * dims.y * dims.z)
+        .map(|i| if i / (dims.y * dims.z) < 156 { 0.002 } else { 1.0 })
+        .collect();
+    let t = GridTransform::scale_translate("UniformScaleMap", DVec3::splat(H as f64), DVec3::ZERO)
+        .expect("transform");
+    let grid = FloatGrid::from_dense("density", IVec3::ZERO, dims, &values, t).expect("grid");
+    let (g, m) = medium(grid, 25.0, Rgb::WHITE, GridEmission::None, ExactVoxels::Auto);
+    let frame = to_world();
+    let ray = Ray::new(
+        frame.transform_point3(Vec3::new(-1.0, 1.5 * H, 1.5 * H)),
+        frame.transform_vector3(Vec3::X),
+    );
+    let t_max = 10.0;
+    let expected = optical_depth(&g, &ray, t_max).exp_neg();
+    take_thread_stats();
+    let est = transmittance(&m, &ray, t_max, 20_000);
+    let stats = take_thread_stats();
+    assert!(
+        stats.collisions > 0 && stats.voxel_steps > 0,
+        "the ray must take both: {stats:?}"
+    );
+    assert_estimate(&est, want(expected), "thin then dense cells");
+}
