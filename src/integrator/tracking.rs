@@ -692,22 +692,28 @@ mod tests {
     use crate::math::{Affine3A, Bounds3, Quat, Vec3};
     use crate::medium::{PhaseFunction, Region};
 
-    /// A ray that would take more than [`MAX_TENTATIVE_COLLISIONS`] null
-    /// collisions (σ̄ = 10⁶ σt over one unit: about 10⁶) stops at the cap:
-    /// ratio tracking returns 0, not the product so far, and the ray is
-    /// counted; a ray under the cap is not.
-    #[test]
-    fn a_ray_past_the_collision_cap_is_ended_and_counted() {
-        let medium = Medium::Homogeneous(HomogeneousMedium {
-            sigma_a: Rgb::splat(0.5),
-            sigma_s: Rgb::splat(0.5),
+    /// A non-emissive homogeneous medium in the box [−½, ½]³, which the ray
+    /// from (−1, 0, 0) along +x crosses over one unit.
+    fn unit_box(sigma_a: Rgb, sigma_s: Rgb) -> Medium {
+        Medium::Homogeneous(HomogeneousMedium {
+            sigma_a,
+            sigma_s,
             emission: Rgb::BLACK,
             phase: PhaseFunction::Isotropic,
             region: Region::Box {
                 world_to_local: Affine3A::IDENTITY,
                 local: Bounds3::new(Vec3::splat(-0.5), Vec3::splat(0.5)),
             },
-        });
+        })
+    }
+
+    /// A ray that would take more than [`MAX_TENTATIVE_COLLISIONS`] null
+    /// collisions (σ̄ = 10⁶ σt over one unit: about 10⁶) stops at the cap:
+    /// ratio tracking returns 0, not the product so far, and the ray is
+    /// counted; a ray under the cap is not.
+    #[test]
+    fn a_ray_past_the_collision_cap_is_ended_and_counted() {
+        let medium = unit_box(Rgb::splat(0.5), Rgb::splat(0.5));
         let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
         let mut sampler = crate::sampling::Sampler::from_seed(4);
         let before = capped_rays();
@@ -736,25 +742,13 @@ mod tests {
     /// estimate is exact, since the residual σt − σc is zero.
     #[test]
     fn residual_ratio_tracking_collides_against_the_residual_majorant_only() {
-        let unit_box = |sigma_a: Rgb| {
-            Medium::Homogeneous(HomogeneousMedium {
-                sigma_a,
-                sigma_s: Rgb::splat(0.25),
-                emission: Rgb::BLACK,
-                phase: PhaseFunction::Isotropic,
-                region: Region::Box {
-                    world_to_local: Affine3A::IDENTITY,
-                    local: Bounds3::new(Vec3::splat(-0.5), Vec3::splat(0.5)),
-                },
-            })
-        };
         let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
         let rays = 4000;
         let mut sampler = crate::sampling::Sampler::from_seed(6);
         for (sigma_a, residual_majorant) in
             [(Rgb::splat(0.5), 0.0), (Rgb::new(0.25, 0.75, 1.25), 1.0)]
         {
-            let medium = unit_box(sigma_a);
+            let medium = unit_box(sigma_a, Rgb::splat(0.25));
             let expected = (sigma_a + Rgb::splat(0.25)).map(|s| (-s).exp());
             take_thread_stats();
             for _ in 0..rays {
@@ -780,16 +774,7 @@ mod tests {
     /// exactly as many collisions as the tracker allows.
     #[test]
     fn a_residual_ratio_ray_past_the_collision_cap_is_ended_and_counted() {
-        let medium = Medium::Homogeneous(HomogeneousMedium {
-            sigma_a: Rgb::new(0.0, 0.0, 2e5),
-            sigma_s: Rgb::BLACK,
-            emission: Rgb::BLACK,
-            phase: PhaseFunction::Isotropic,
-            region: Region::Box {
-                world_to_local: Affine3A::IDENTITY,
-                local: Bounds3::new(Vec3::splat(-0.5), Vec3::splat(0.5)),
-            },
-        });
+        let medium = unit_box(Rgb::new(0.0, 0.0, 2e5), Rgb::BLACK);
         let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
         let mut sampler = crate::sampling::Sampler::from_seed(2);
         let before = capped_rays();
@@ -834,21 +819,9 @@ mod tests {
     /// first two channels; the other is too thin to collide.
     #[test]
     fn a_capped_tracker_among_overlapping_media_ends_the_path() {
-        let unit_box = |sigma_a: Rgb| {
-            Medium::Homogeneous(HomogeneousMedium {
-                sigma_a,
-                sigma_s: Rgb::BLACK,
-                emission: Rgb::BLACK,
-                phase: PhaseFunction::Isotropic,
-                region: Region::Box {
-                    world_to_local: Affine3A::IDENTITY,
-                    local: Bounds3::new(Vec3::splat(-0.5), Vec3::splat(0.5)),
-                },
-            })
-        };
         let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
-        let capped = unit_box(Rgb::new(1.0, 1.0, 2e5));
-        let thin = unit_box(Rgb::splat(1e-9));
+        let capped = unit_box(Rgb::new(1.0, 1.0, 2e5), Rgb::BLACK);
+        let thin = unit_box(Rgb::splat(1e-9), Rgb::BLACK);
         for media in [vec![capped.clone()], vec![capped, thin]] {
             let mut sampler = crate::sampling::Sampler::from_seed(12);
             let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
