@@ -373,59 +373,6 @@ fn dense_vdb_costs_about_what_the_homogeneous_medium_costs() {
     );
 }
 
-/// The exact walk counts its voxel steps against the same cap as tentative
-/// collisions: a ray along a row of 70 000 voxels (density 10⁻⁶, so its
-/// transmittance is about 1) is ended at the cap, a shadow ray returns 0
-/// and a free flight ends the path, instead of walking on.
-#[test]
-fn an_exact_walk_past_the_step_cap_is_ended() {
-    let dims = IVec3::new(70_000, 2, 2);
-    let values = vec![1.0f32; (dims.x * dims.y * dims.z) as usize];
-    let t = GridTransform::scale_translate("UniformScaleMap", DVec3::splat(H as f64), DVec3::ZERO)
-        .expect("transform");
-    let grid = FloatGrid::from_dense("density", IVec3::ZERO, dims, &values, t).expect("grid");
-    let (_, m) = medium(
-        grid,
-        1e-6,
-        Rgb::WHITE,
-        GridEmission::None,
-        ExactVoxels::Always,
-    );
-    let frame = to_world();
-    let ray = Ray::new(
-        frame.transform_point3(Vec3::new(-1.0, 0.5 * H, 0.5 * H)),
-        frame.transform_vector3(Vec3::X),
-    );
-    let mut sampler = Sampler::from_seed(3);
-    take_thread_stats();
-    let tr = medium_transmittance(
-        &m,
-        &ray,
-        f32::INFINITY,
-        TransmittanceEstimator::Auto,
-        &mut sampler,
-    );
-    assert_eq!(tr, Rgb::BLACK, "a capped shadow ray returns 0");
-    // Exactly the cap's number of steps, all of them voxel steps (the walk is exact).
-    assert_eq!(
-        take_thread_stats().voxel_steps,
-        brume::integrator::tracking::MAX_TENTATIVE_COLLISIONS as u64
-    );
-    let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-    let out = sample_free_flight(
-        std::slice::from_ref(&m),
-        &ray,
-        f32::INFINITY,
-        &mut throughput,
-        &mut radiance,
-        &mut sampler,
-    );
-    assert!(
-        matches!(out, FreeFlight::Absorbed) && throughput == Rgb::BLACK,
-        "a capped free flight ends the path: {out:?}, {throughput:?}"
-    );
-}
-
 /// In `Auto` mode one ray can cross thin cells (ratio tracking) and then
 /// dense ones (the exact walk): the transmittance is the product over all
 /// of them, each segment picking up the weight the previous ones left.

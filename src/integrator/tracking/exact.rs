@@ -427,3 +427,75 @@ impl FlightState<'_, '_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::tracking::{sample_free_flight, take_thread_stats};
+    use crate::math::Affine3A;
+    use crate::medium::{
+        ExactVoxels, GridEmission, GridMediumParams, MajorantMode, Medium, PhaseFunction,
+    };
+    use crate::volume::{FloatGrid, GridTransform};
+    use glam::{DVec3, IVec3};
+    use std::sync::Arc;
+
+    /// The exact walk counts its voxel steps against the same cap as
+    /// tentative collisions: a ray along a row of 70 000 voxels (density
+    /// 10⁻⁶, so its transmittance is about 1) is ended at the cap, after
+    /// exactly the cap's number of voxel steps; a shadow ray returns 0 and a
+    /// free flight ends the path, instead of walking on. (A unit test, not
+    /// in `tests/exact_voxels.rs`: the capped-ray counter is process-wide,
+    /// and a render there asserts that it caps nothing.)
+    #[test]
+    fn an_exact_walk_past_the_step_cap_is_ended() {
+        let h = 0.05;
+        let dims = IVec3::new(70_000, 2, 2);
+        let values = vec![1.0f32; (dims.x * dims.y * dims.z) as usize];
+        let t = GridTransform::scale_translate("UniformScaleMap", DVec3::splat(h), DVec3::ZERO)
+            .expect("transform");
+        let grid = FloatGrid::from_dense("density", IVec3::ZERO, dims, &values, t).expect("grid");
+        let params = GridMediumParams {
+            to_world: Affine3A::IDENTITY,
+            density_scale: 1e-6,
+            sigma_t_scale: Rgb::WHITE,
+            albedo: Rgb::splat(0.7),
+            phase: PhaseFunction::Isotropic,
+            emission: GridEmission::None,
+            majorant: MajorantMode::Grid,
+            cell_size: None,
+        };
+        let mut g = GridMedium::new(grid, params);
+        g.set_exact_voxels(ExactVoxels::Always);
+        let m = Medium::Grid(Arc::new(g));
+        let half = 0.5 * h as f32;
+        let ray = Ray::new(Vec3::new(-1.0, half, half), Vec3::X);
+        let mut sampler = Sampler::from_seed(3);
+        take_thread_stats();
+        let tr = crate::integrator::tracking::medium_transmittance(
+            &m,
+            &ray,
+            f32::INFINITY,
+            crate::integrator::TransmittanceEstimator::Auto,
+            &mut sampler,
+        );
+        assert_eq!(tr, Rgb::BLACK, "a capped shadow ray returns 0");
+        assert_eq!(
+            take_thread_stats().voxel_steps,
+            MAX_TENTATIVE_COLLISIONS as u64
+        );
+        let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+        let out = sample_free_flight(
+            std::slice::from_ref(&m),
+            &ray,
+            f32::INFINITY,
+            &mut throughput,
+            &mut radiance,
+            &mut sampler,
+        );
+        assert!(
+            matches!(out, FreeFlight::Absorbed) && throughput == Rgb::BLACK,
+            "a capped free flight ends the path: {out:?}, {throughput:?}"
+        );
+    }
+}
