@@ -407,13 +407,13 @@ fn auto_transmittance_through_thin_then_dense_cells_is_unbiased() {
     );
     let t_max = 10.0;
     let expected = optical_depth(&g, &ray, t_max).exp_neg();
+    let rays = 20_000;
     take_thread_stats();
-    let est = transmittance(&m, &ray, t_max, 20_000);
+    let est = transmittance(&m, &ray, t_max, rays as usize);
     let stats = take_thread_stats();
     // Both, each where it belongs: a fraction of a null collision a ray in
     // the thin cells, voxel steps in the cells around the dense voxels
     // (tracking those instead would take dozens of collisions a ray).
-    let rays = 20_000;
     assert!(
         stats.collisions > 0 && stats.collisions < rays,
         "collisions: {stats:?}"

@@ -692,8 +692,30 @@ mod tests {
     use crate::math::{Affine3A, Bounds3, Quat, Vec3};
     use crate::medium::{PhaseFunction, Region};
 
-    /// A non-emissive homogeneous medium in the box [−½, ½]³, which the ray
-    /// from (−1, 0, 0) along +x crosses over one unit.
+    /// The ray from (−1, 0, 0) along +x, which crosses [`unit_box`] over one unit.
+    fn across_unit_box() -> Ray {
+        Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X)
+    }
+
+    /// A free flight along `ray` through `media` ends the path: absorbed, throughput 0.
+    pub(super) fn assert_flight_ends_the_path(media: &[Medium], ray: &Ray, sampler: &mut Sampler) {
+        let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+        let out = sample_free_flight(
+            media,
+            ray,
+            f32::INFINITY,
+            &mut throughput,
+            &mut radiance,
+            sampler,
+        );
+        assert!(
+            matches!(out, FreeFlight::Absorbed) && throughput == Rgb::BLACK,
+            "{} media: {out:?}, throughput {throughput:?}",
+            media.len()
+        );
+    }
+
+    /// A non-emissive homogeneous medium in the box [−½, ½]³.
     fn unit_box(sigma_a: Rgb, sigma_s: Rgb) -> Medium {
         Medium::Homogeneous(HomogeneousMedium {
             sigma_a,
@@ -714,7 +736,7 @@ mod tests {
     #[test]
     fn a_ray_past_the_collision_cap_is_ended_and_counted() {
         let medium = unit_box(Rgb::splat(0.5), Rgb::splat(0.5));
-        let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+        let ray = across_unit_box();
         let mut sampler = crate::sampling::Sampler::from_seed(4);
         let before = capped_rays();
         take_thread_stats();
@@ -742,7 +764,7 @@ mod tests {
     /// estimate is exact, since the residual σt − σc is zero.
     #[test]
     fn residual_ratio_tracking_collides_against_the_residual_majorant_only() {
-        let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+        let ray = across_unit_box();
         let rays = 4000;
         let mut sampler = crate::sampling::Sampler::from_seed(6);
         for (sigma_a, residual_majorant) in
@@ -775,7 +797,7 @@ mod tests {
     #[test]
     fn a_residual_ratio_ray_past_the_collision_cap_is_ended_and_counted() {
         let medium = unit_box(Rgb::new(0.0, 0.0, 2e5), Rgb::BLACK);
-        let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+        let ray = across_unit_box();
         let mut sampler = crate::sampling::Sampler::from_seed(2);
         let before = capped_rays();
         take_thread_stats();
@@ -819,25 +841,12 @@ mod tests {
     /// first two channels; the other is too thin to collide.
     #[test]
     fn a_capped_tracker_among_overlapping_media_ends_the_path() {
-        let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+        let ray = across_unit_box();
         let capped = unit_box(Rgb::new(1.0, 1.0, 2e5), Rgb::BLACK);
         let thin = unit_box(Rgb::splat(1e-9), Rgb::BLACK);
         for media in [vec![capped.clone()], vec![capped, thin]] {
             let mut sampler = crate::sampling::Sampler::from_seed(12);
-            let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-            let out = sample_free_flight(
-                &media,
-                &ray,
-                f32::INFINITY,
-                &mut throughput,
-                &mut radiance,
-                &mut sampler,
-            );
-            assert!(
-                matches!(out, FreeFlight::Absorbed) && throughput == Rgb::BLACK,
-                "{} media: {out:?}, throughput {throughput:?}",
-                media.len()
-            );
+            assert_flight_ends_the_path(&media, &ray, &mut sampler);
         }
     }
 

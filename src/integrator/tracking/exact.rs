@@ -431,7 +431,8 @@ impl FlightState<'_, '_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::tracking::{sample_free_flight, take_thread_stats};
+    use crate::integrator::tracking::take_thread_stats;
+    use crate::integrator::tracking::tests::assert_flight_ends_the_path;
     use crate::math::Affine3A;
     use crate::medium::{
         ExactVoxels, GridEmission, GridMediumParams, MajorantMode, Medium, PhaseFunction,
@@ -484,18 +485,7 @@ mod tests {
             take_thread_stats().voxel_steps,
             MAX_TENTATIVE_COLLISIONS as u64
         );
-        let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-        let out = sample_free_flight(
-            std::slice::from_ref(&m),
-            &ray,
-            f32::INFINITY,
-            &mut throughput,
-            &mut radiance,
-            &mut sampler,
-        );
-        assert!(
-            matches!(out, FreeFlight::Absorbed) && throughput == Rgb::BLACK,
-            "a capped free flight ends the path: {out:?}, {throughput:?}"
-        );
+        // A capped free flight ends the path.
+        assert_flight_ends_the_path(std::slice::from_ref(&m), &ray, &mut sampler);
     }
 }
