@@ -796,17 +796,18 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
             out.nonfinite_samples
         );
     }
-    if out.capped_rays > 0 {
+    if out.tracking.capped_rays > 0 {
         eprintln!(
             "warning: {} rays reached the cap of {} tentative collisions and were ended \
              (the image is biased dark there; a tighter majorant, majorant = \"grid\", avoids it)",
-            out.capped_rays,
+            out.tracking.capped_rays,
             brume::integrator::tracking::MAX_TENTATIVE_COLLISIONS
         );
     }
     if out.truncated_interiors > 0 {
         eprintln!(
-            "warning: {} rays crossed a shape with an interior more than {} times; past the last              kept crossing the medium was taken as absent (the image is biased there)",
+            "warning: {} rays crossed a shape with an interior more than {} times; past the last \
+             kept crossing the medium was taken as absent (the image is biased there)",
             out.truncated_interiors,
             brume::geometry::closed::MAX_CROSSINGS
         );

@@ -44,10 +44,9 @@ pub struct RenderOutput {
     pub nonfinite_samples: u64,
     /// Total radiance samples taken.
     pub samples: u64,
-    /// Tentative collisions of the media tracking and their null fraction.
+    /// Tentative collisions of the media tracking, their null fraction and
+    /// the rays ended by the cap (`tracking::MAX_TENTATIVE_COLLISIONS`).
     pub tracking: TrackingStats,
-    /// Rays ended by the tracking cap (`tracking::MAX_TENTATIVE_COLLISIONS`).
-    pub capped_rays: u64,
     /// Interior interval queries cut short by `geometry::closed::MAX_CROSSINGS`.
     pub truncated_interiors: u64,
 }
@@ -176,8 +175,6 @@ pub fn render_part(
         .num_threads(options.threads.unwrap_or(0))
         .build()
         .expect("thread pool");
-    let capped_before = crate::integrator::tracking::capped_rays();
-    let truncated_before = crate::medium::interior::truncated_queries();
     let spp_total = options.spp;
     let options = RenderOptions {
         spp: part.samples.len(),
@@ -190,8 +187,6 @@ pub fn render_part(
         let provenance = &mut out.film.provenance;
         provenance.spp_total = provenance.spp_total.max(spp_total);
     }
-    out.capped_rays = crate::integrator::tracking::capped_rays() - capped_before;
-    out.truncated_interiors = crate::medium::interior::truncated_queries() - truncated_before;
     out
 }
 
@@ -210,7 +205,7 @@ fn render_in_pool(
     let bar = progress_bar(options, h as u64);
     let mut spp_done = 0u32;
     let mut partial = false;
-    let mut tracking = TrackingStats::default();
+    let mut counts_so_far = RayCounts::default();
     let mut passes: Vec<Pixel> = Vec::new();
     loop {
         let budget_left = match options.time_budget {
@@ -241,8 +236,8 @@ fn render_in_pool(
             cancel,
             bar: &bar,
         };
-        let (finished, stats) = group.render(&mut passes);
-        tracking.merge(stats);
+        let (finished, ray_counts) = group.render(&mut passes);
+        counts_so_far.merge(ray_counts);
         // A pass cut short is dropped whole, so every pixel of the image has
         // exactly `spp_done` samples; a pass that finished is kept even if the
         // stop request came in just after its last row.
@@ -283,9 +278,8 @@ fn render_in_pool(
         elapsed: start.elapsed(),
         nonfinite_samples: nonfinite,
         samples: spp_done as u64 * (w * h) as u64,
-        tracking,
-        capped_rays: 0,
-        truncated_interiors: 0,
+        tracking: counts_so_far.tracking,
+        truncated_interiors: counts_so_far.truncated_interiors,
     }
 }
 
@@ -342,8 +336,8 @@ struct Group<'a> {
 
 impl Group<'_> {
     /// Fills `passes` (one `w`×`h` buffer per pass, in pass order); returns
-    /// how many leading passes finished every row, and the tracking counts.
-    fn render(&self, passes: &mut [Pixel]) -> (usize, TrackingStats) {
+    /// how many leading passes finished every row, and what their rays ran into.
+    fn render(&self, passes: &mut [Pixel]) -> (usize, RayCounts) {
         let rows_done: Vec<AtomicUsize> = self.counts.iter().map(|_| AtomicUsize::new(0)).collect();
         let firsts: Vec<u32> = self
             .counts
@@ -366,10 +360,10 @@ impl Group<'_> {
             .map(|(item, row)| {
                 let (k, y) = (item / self.h, item % self.h);
                 if self.cancel.load(Ordering::Relaxed) {
-                    return TrackingStats::default();
+                    return RayCounts::default();
                 }
                 // An item runs on one thread from start to end: its counts are the thread's.
-                take_thread_stats();
+                RayCounts::take_thread();
                 let (x0, y0) = self.origin;
                 for (x, px) in row.iter_mut().enumerate() {
                     let (px_x, px_y) = (x0 + x as u32, y0 + y as u32);
@@ -383,14 +377,14 @@ impl Group<'_> {
                     ) {
                         Some(p) => *px = p,
                         // Stopped: the row is not counted, so its pass is dropped.
-                        None => return TrackingStats::default(),
+                        None => return RayCounts::default(),
                     }
                 }
                 rows_done[k].fetch_add(1, Ordering::Relaxed);
                 self.bar.inc(1);
-                take_thread_stats()
+                RayCounts::take_thread()
             })
-            .reduce(TrackingStats::default, |mut a, b| {
+            .reduce(RayCounts::default, |mut a, b| {
                 a.merge(b);
                 a
             });
@@ -399,6 +393,29 @@ impl Group<'_> {
             .take_while(|r| r.load(Ordering::Relaxed) == self.h)
             .count();
         (finished, stats)
+    }
+}
+
+/// What the rays of a render ran into, counted per thread and merged: a
+/// render reports its own rays only, whatever else runs in the process.
+#[derive(Clone, Copy, Default)]
+struct RayCounts {
+    tracking: TrackingStats,
+    truncated_interiors: u64,
+}
+
+impl RayCounts {
+    /// Takes (and resets) this thread's counts.
+    fn take_thread() -> RayCounts {
+        RayCounts {
+            tracking: take_thread_stats(),
+            truncated_interiors: crate::medium::interior::take_thread_truncated_queries(),
+        }
+    }
+
+    fn merge(&mut self, other: RayCounts) {
+        self.tracking.merge(other.tracking);
+        self.truncated_interiors += other.truncated_interiors;
     }
 }
 

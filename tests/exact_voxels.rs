@@ -357,7 +357,7 @@ fn dense_vdb_costs_about_what_the_homogeneous_medium_costs() {
     };
     let per_sample = |s: &brume::integrator::Scene| {
         let out = render(s, &options, &AtomicBool::new(false));
-        assert_eq!(out.capped_rays, 0);
+        assert_eq!(out.tracking.capped_rays, 0);
         out.tracking.lookups() as f64 / out.samples as f64
     };
     let (v, h) = (per_sample(&vdb), per_sample(&homogeneous));

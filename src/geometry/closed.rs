@@ -169,7 +169,7 @@ fn check_closed(triangles: &[Primitive]) -> Result<(), String> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// The 12 triangles of the cube [-1, 1]³, wound outward when `outward`.

@@ -42,21 +42,11 @@ mod exact;
 mod kernel;
 mod stats;
 
-use std::sync::atomic::{AtomicU64, Ordering};
-
 /// Below this max channel a transmittance weight plays Russian roulette.
 pub const ROULETTE_THRESHOLD: f32 = 0.1;
 
 /// Most tentative collisions one tracker takes along one ray (see the module doc).
 pub const MAX_TENTATIVE_COLLISIONS: u32 = 1 << 16;
-
-/// Rays ended by the cap since the process started.
-static CAPPED_RAYS: AtomicU64 = AtomicU64::new(0);
-
-/// Number of rays ended by [`MAX_TENTATIVE_COLLISIONS`] so far in this process.
-pub fn capped_rays() -> u64 {
-    CAPPED_RAYS.load(Ordering::Relaxed)
-}
 
 /// Russian roulette on a tracking weight: false if the weight was killed.
 ///
@@ -142,7 +132,7 @@ impl<'a> Tracker<'a> {
     pub fn next(&mut self, sampler: &mut Sampler) -> Option<Collision> {
         if self.steps >= MAX_TENTATIVE_COLLISIONS {
             if self.steps == MAX_TENTATIVE_COLLISIONS {
-                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                stats::count_capped_ray();
                 self.steps += 1;
             }
             return None;
@@ -349,7 +339,7 @@ fn residual_ratio_track<M: TrackedMedium>(
             }
             steps += 1;
             if steps > MAX_TENTATIVE_COLLISIONS {
-                CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+                stats::count_capped_ray();
                 return Rgb::BLACK;
             }
             let residual = medium.sigma_t(ray.at(t), ray.time) - control;
@@ -547,7 +537,7 @@ fn homogeneous_free_flight(
             Step::Null => {}
         }
     }
-    CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+    stats::count_capped_ray();
     *throughput = Rgb::BLACK;
     FreeFlight::Absorbed
 }
@@ -738,23 +728,20 @@ mod tests {
         let medium = unit_box(Rgb::splat(0.5), Rgb::splat(0.5));
         let ray = across_unit_box();
         let mut sampler = crate::sampling::Sampler::from_seed(4);
-        let before = capped_rays();
         take_thread_stats();
         let capped =
             ratio_tracking_scaled_majorant(&medium, &ray, f32::INFINITY, 1e6, &mut sampler);
-        assert_eq!(
-            take_thread_stats().collisions,
-            MAX_TENTATIVE_COLLISIONS as u64
-        );
+        let stats = take_thread_stats();
+        assert_eq!(stats.collisions, MAX_TENTATIVE_COLLISIONS as u64);
+        assert_eq!(stats.capped_rays, 1);
         assert_eq!(
             capped,
             Rgb::BLACK,
             "the product of 65536 ratios is about 0.94, not 0"
         );
-        // Other tests of this binary may cap rays too: at least this one is counted.
-        assert!(capped_rays() > before);
         let under = ratio_tracking_scaled_majorant(&medium, &ray, f32::INFINITY, 1e3, &mut sampler);
         assert!(under.max_channel() > 0.0);
+        assert_eq!(take_thread_stats().capped_rays, 0);
     }
 
     /// Residual ratio tracking takes the control part in closed form and
@@ -799,16 +786,13 @@ mod tests {
         let medium = unit_box(Rgb::new(0.0, 0.0, 2e5), Rgb::BLACK);
         let ray = across_unit_box();
         let mut sampler = crate::sampling::Sampler::from_seed(2);
-        let before = capped_rays();
         take_thread_stats();
         let tr = residual_ratio_tracking(&medium, &ray, f32::INFINITY, &mut sampler);
         assert_eq!(tr, Rgb::BLACK);
-        assert!(capped_rays() > before);
+        let stats = take_thread_stats();
+        assert_eq!(stats.capped_rays, 1);
         // The same cap as the tracker's: that many collisions, not one fewer.
-        assert_eq!(
-            take_thread_stats().collisions,
-            MAX_TENTATIVE_COLLISIONS as u64
-        );
+        assert_eq!(stats.collisions, MAX_TENTATIVE_COLLISIONS as u64);
     }
 
     /// Without roulette, the product of null-collision ratios through an

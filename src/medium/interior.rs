@@ -40,25 +40,28 @@
 //! A ray keeps at most [`MAX_CROSSINGS`] crossings (the nearest), in a fixed
 //! array: no allocation per ray. When a ray crosses a mesh more often than
 //! that before `t_max`, the part of it past the last kept crossing is taken
-//! as outside the shape, and the query is counted ([`truncated_queries`]);
+//! as outside the shape, and the query is counted ([`take_thread_truncated_queries`]);
 //! the render summary reports the count, so the bias is never silent.
 
 use super::{GridMedium, HomogeneousMedium, MajorantSegment, MediumProperties, Region};
 use crate::color::Rgb;
 use crate::geometry::closed::{ClosedMesh, MAX_CROSSINGS};
 use crate::math::{Ray, Vec3};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::cell::Cell;
 use std::sync::Arc;
 
 /// Most inside-intervals of one ray: every pair of kept crossings, plus a start inside.
 pub const MAX_INTERVALS: usize = MAX_CROSSINGS / 2 + 1;
 
-/// Interval queries cut short by [`MAX_CROSSINGS`] since the process started.
-static TRUNCATED: AtomicU64 = AtomicU64::new(0);
+thread_local! {
+    // Interval queries cut short by [`MAX_CROSSINGS`] on this thread: per
+    // thread, so a render counts only its own rays (like the tracking counts).
+    static TRUNCATED: Cell<u64> = const { Cell::new(0) };
+}
 
-/// Number of interval queries cut short by the crossing limit so far in this process.
-pub fn truncated_queries() -> u64 {
-    TRUNCATED.load(Ordering::Relaxed)
+/// Takes (and resets) this thread's count of queries cut short by the crossing limit.
+pub fn take_thread_truncated_queries() -> u64 {
+    TRUNCATED.with(|n| n.replace(0))
 }
 
 /// The closed shape a medium is masked by.
@@ -136,7 +139,7 @@ impl ShapeMask {
                 }
                 let truncated = c.overflow && kept.last().is_some_and(|&last| last < t_max);
                 if truncated {
-                    TRUNCATED.fetch_add(1, Ordering::Relaxed);
+                    TRUNCATED.with(|n| n.set(n.get() + 1));
                 }
                 if inside {
                     let end = if truncated { kept[c.len - 1] } else { t_max };
@@ -300,6 +303,44 @@ mod tests {
             decay: 0.0,
             sigma_control: Rgb::BLACK,
         }
+    }
+
+    /// A ray through 20 cubes in a row crosses the mesh 40 times: the
+    /// 32 nearest crossings are kept, the 16 cubes they bound are inside, the
+    /// rest of the ray is taken as outside, and the query is counted on this
+    /// thread; a query ending before the last kept crossing is whole and
+    /// not counted.
+    #[test]
+    fn a_ray_past_the_crossing_limit_is_cut_and_counted() {
+        use crate::geometry::{closed::tests::cube, Primitive};
+        let cubes: Vec<Primitive> = (0..20)
+            .flat_map(|k| {
+                let offset = Vec3::new(3.0 * k as f32, 0.0, 0.0);
+                cube(true).into_iter().map(move |tri| match tri {
+                    Primitive::Triangle { p, n } => Primitive::Triangle {
+                        p: p.map(|v| v + offset),
+                        n,
+                    },
+                    other => other,
+                })
+            })
+            .collect();
+        let mask = ShapeMask::Mesh(Arc::new(ClosedMesh::new(cubes).expect("closed")));
+        // Cube k spans x in [3k − 1, 3k + 1]: the ray is inside it for t in [3k + 2, 3k + 4].
+        let ray = Ray::new(Vec3::new(-3.0, 0.1, 0.2), Vec3::X);
+        take_thread_truncated_queries();
+        let cut = mask.intervals(&ray, 1000.0);
+        assert_eq!(take_thread_truncated_queries(), 1);
+        assert_eq!(cut.as_slice().len(), MAX_CROSSINGS / 2);
+        let last = cut.as_slice()[MAX_CROSSINGS / 2 - 1];
+        assert!(
+            (last.0 - 47.0).abs() < 1e-4 && (last.1 - 49.0).abs() < 1e-4,
+            "{last:?}"
+        );
+        let whole = mask.intervals(&ray, 45.0);
+        assert_eq!(take_thread_truncated_queries(), 0);
+        assert_eq!(whole.as_slice().len(), 15);
+        assert_eq!(whole.as_slice()[14], (44.0, 45.0));
     }
 
     #[test]

@@ -14,14 +14,13 @@
 //! memoryless), so mixing the two along one ray stays unbiased.
 
 use super::{collide, negligible, roulette, FreeFlight, Step, Tally, ROULETTE_THRESHOLD};
-use super::{CAPPED_RAYS, MAX_TENTATIVE_COLLISIONS};
+use super::{stats, MAX_TENTATIVE_COLLISIONS};
 use crate::color::Rgb;
 use crate::math::Ray;
 use crate::math::Vec3;
 use crate::medium::voxel::{VoxelSpan, VoxelWalk};
 use crate::medium::{GridMedium, MajorantSegment};
 use crate::sampling::Sampler;
-use std::sync::atomic::Ordering;
 
 /// Tentative collisions plus voxel steps of one ray, against the cap.
 struct Budget(u32);
@@ -32,7 +31,7 @@ impl Budget {
     fn take(&mut self) -> bool {
         self.0 += 1;
         if self.0 > MAX_TENTATIVE_COLLISIONS {
-            CAPPED_RAYS.fetch_add(1, Ordering::Relaxed);
+            stats::count_capped_ray();
             return false;
         }
         true
@@ -445,9 +444,8 @@ mod tests {
     /// tentative collisions: a ray along a row of 70 000 voxels (density
     /// 10⁻⁶, so its transmittance is about 1) is ended at the cap, after
     /// exactly the cap's number of voxel steps; a shadow ray returns 0 and a
-    /// free flight ends the path, instead of walking on. (A unit test, not
-    /// in `tests/exact_voxels.rs`: the capped-ray counter is process-wide,
-    /// and a render there asserts that it caps nothing.)
+    /// free flight ends the path, instead of walking on; the capped shadow
+    /// ray is counted once.
     #[test]
     fn an_exact_walk_past_the_step_cap_is_ended() {
         let h = 0.05;
@@ -481,10 +479,9 @@ mod tests {
             &mut sampler,
         );
         assert_eq!(tr, Rgb::BLACK, "a capped shadow ray returns 0");
-        assert_eq!(
-            take_thread_stats().voxel_steps,
-            MAX_TENTATIVE_COLLISIONS as u64
-        );
+        let stats = take_thread_stats();
+        assert_eq!(stats.voxel_steps, MAX_TENTATIVE_COLLISIONS as u64);
+        assert_eq!(stats.capped_rays, 1);
         // A capped free flight ends the path.
         assert_flight_ends_the_path(std::slice::from_ref(&m), &ray, &mut sampler);
     }

@@ -15,6 +15,8 @@ pub struct TrackingStats {
     pub null_sum: f64,
     /// Voxel cells integrated exactly (one corner fetch each; see `medium::voxel`).
     pub voxel_steps: u64,
+    /// Rays ended by the cap ([`super::MAX_TENTATIVE_COLLISIONS`]).
+    pub capped_rays: u64,
 }
 
 impl TrackingStats {
@@ -32,6 +34,7 @@ impl TrackingStats {
         self.collisions += other.collisions;
         self.null_sum += other.null_sum;
         self.voxel_steps += other.voxel_steps;
+        self.capped_rays += other.capped_rays;
     }
 
     /// Medium lookups of either kind: tentative collisions and exact voxel steps.
@@ -40,19 +43,32 @@ impl TrackingStats {
     }
 }
 
+const NO_STATS: TrackingStats = TrackingStats {
+    collisions: 0,
+    null_sum: 0.0,
+    voxel_steps: 0,
+    capped_rays: 0,
+};
+
 thread_local! {
-    // Per thread, so counting costs no shared cache line; flushed once per estimator call.
-    static STATS: Cell<(u64, f64, u64)> = const { Cell::new((0, 0.0, 0)) };
+    // Per thread, so counting costs no shared cache line, and a render counts
+    // only its own rays (it takes the counts of the threads that rendered it);
+    // flushed once per estimator call.
+    static STATS: Cell<TrackingStats> = const { Cell::new(NO_STATS) };
 }
 
 /// Takes (and resets) this thread's tracking counts.
 pub fn take_thread_stats() -> TrackingStats {
-    let (collisions, null_sum, voxel_steps) = STATS.with(|s| s.replace((0, 0.0, 0)));
-    TrackingStats {
-        collisions,
-        null_sum,
-        voxel_steps,
-    }
+    STATS.with(|s| s.replace(NO_STATS))
+}
+
+/// Counts one ray ended by the cap on this thread (rare: not batched in a [`Tally`]).
+pub(super) fn count_capped_ray() {
+    STATS.with(|s| {
+        let mut stats = s.get();
+        stats.capped_rays += 1;
+        s.set(stats);
+    });
 }
 
 /// Local tally of one estimator call, flushed to the thread's counts on drop.
@@ -80,12 +96,11 @@ impl Drop for Tally {
     fn drop(&mut self) {
         if self.collisions > 0 || self.voxel_steps > 0 {
             STATS.with(|s| {
-                let (n, sum, v) = s.get();
-                s.set((
-                    n + self.collisions as u64,
-                    sum + self.null_sum as f64,
-                    v + self.voxel_steps as u64,
-                ));
+                let mut stats = s.get();
+                stats.collisions += self.collisions as u64;
+                stats.null_sum += self.null_sum as f64;
+                stats.voxel_steps += self.voxel_steps as u64;
+                s.set(stats);
             });
         }
     }
