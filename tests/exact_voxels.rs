@@ -104,17 +104,20 @@ fn optical_depth(g: &GridMedium, ray: &Ray, t_max: f32) -> Rgb {
     g.sigma_t_unit() * sum as f32
 }
 
+/// The mean of `n` transmittance samples; each must lie in [0, 1] (a
+/// product of ratios against a true majorant, with roulette that lifts a
+/// weight to at most its threshold), so a test's tolerance never comes
+/// from a standard error that wild samples inflated.
 fn transmittance(m: &Medium, ray: &Ray, t_max: f32, n: usize) -> Estimate {
     let mut acc = Accumulator::default();
     for i in 0..n {
         let mut sampler = Sampler::new(5, 7, 11, i as u64);
-        acc.add(medium_transmittance(
-            m,
-            ray,
-            t_max,
-            TransmittanceEstimator::Auto,
-            &mut sampler,
-        ));
+        let tr = medium_transmittance(m, ray, t_max, TransmittanceEstimator::Auto, &mut sampler);
+        assert!(
+            [tr.r, tr.g, tr.b].iter().all(|c| (0.0..=1.0).contains(c)),
+            "sample {i}: {tr:?} outside [0, 1]"
+        );
+        acc.add(tr);
     }
     acc.estimate()
 }
@@ -380,19 +383,7 @@ fn dense_vdb_costs_about_what_the_homogeneous_medium_costs() {
 /// scale 25: 0.0025 and 1.25 expected collisions a voxel.
 #[test]
 fn auto_transmittance_through_thin_then_dense_cells_is_unbiased() {
-    let dims = IVec3::new(160, 4, 4);
-    let values: Vec<f32> = (0..dims.x * dims.y * dims.z)
-        .map(|i| {
-            if i / (dims.y * dims.z) < 156 {
-                0.002
-            } else {
-                1.0
-            }
-        })
-        .collect();
-    let t = GridTransform::scale_translate("UniformScaleMap", DVec3::splat(H as f64), DVec3::ZERO)
-        .expect("transform");
-    let grid = FloatGrid::from_dense("density", IVec3::ZERO, dims, &values, t).expect("grid");
+    let grid = row_grid(160, |x| if x < 156 { 0.002 } else { 1.0 });
     let (g, m) = medium(
         grid,
         25.0,
@@ -400,12 +391,7 @@ fn auto_transmittance_through_thin_then_dense_cells_is_unbiased() {
         GridEmission::None,
         ExactVoxels::Auto,
     );
-    let frame = to_world();
-    let ray = Ray::new(
-        frame.transform_point3(Vec3::new(-1.0, 1.5 * H, 1.5 * H)),
-        frame.transform_vector3(Vec3::X),
-    );
-    let t_max = 10.0;
+    let (ray, t_max) = along_row();
     let expected = optical_depth(&g, &ray, t_max).exp_neg();
     let rays = 20_000;
     take_thread_stats();
@@ -420,4 +406,77 @@ fn auto_transmittance_through_thin_then_dense_cells_is_unbiased() {
     );
     assert!(stats.voxel_steps > 0, "voxel steps: {stats:?}");
     assert_estimate(&est, want(expected), "thin then dense cells");
+}
+
+/// A grid `len`×4×4 voxels whose values vary along x only (`value(x)`).
+fn row_grid(len: i32, value: impl Fn(i32) -> f32) -> FloatGrid {
+    let dims = IVec3::new(len, 4, 4);
+    let values: Vec<f32> = (0..dims.x * dims.y * dims.z)
+        .map(|i| value(i % dims.x))
+        .collect();
+    let t = GridTransform::scale_translate("UniformScaleMap", DVec3::splat(H as f64), DVec3::ZERO)
+        .expect("transform");
+    FloatGrid::from_dense("density", IVec3::ZERO, dims, &values, t).expect("grid")
+}
+
+/// A world ray along the x rows of a [`row_grid`], between voxel centres, with its length.
+fn along_row() -> (Ray, f32) {
+    let frame = to_world();
+    let ray = Ray::new(
+        frame.transform_point3(Vec3::new(-1.0, 1.5 * H, 1.5 * H)),
+        frame.transform_vector3(Vec3::X),
+    );
+    (ray, 10.0)
+}
+
+/// Dense, thin, then dense again (`Auto`): the exact walk of the second
+/// dense run starts where that run starts, not where the first one
+/// stopped, so the thin cells between them (optical depth about 0.7,
+/// ratio-tracked) are not integrated a second time by the walk.
+#[test]
+fn auto_transmittance_through_dense_thin_dense_cells_is_unbiased() {
+    let grid = row_grid(60, |x| if (2..58).contains(&x) { 0.01 } else { 1.0 });
+    let (g, m) = medium(
+        grid,
+        25.0,
+        Rgb::WHITE,
+        GridEmission::None,
+        ExactVoxels::Auto,
+    );
+    let (ray, t_max) = along_row();
+    let expected = optical_depth(&g, &ray, t_max).exp_neg();
+    take_thread_stats();
+    let est = transmittance(&m, &ray, t_max, 20_000);
+    let stats = take_thread_stats();
+    assert!(
+        stats.collisions > 0,
+        "the thin cells are tracked: {stats:?}"
+    );
+    assert!(stats.voxel_steps > 0, "the dense ones walked: {stats:?}");
+    assert_estimate(&est, want(expected), "dense, thin, then dense cells");
+}
+
+/// Voxels alternating between 1 and −0.5 along the ray: every cell has a
+/// negative corner, so the whole optical depth (about 2.3) lies in spans
+/// the clamp makes non-cubic, where ratio tracking reads the density at
+/// each tentative collision's own place in the span.
+#[test]
+fn transmittance_through_clamped_cells_only_is_unbiased() {
+    let grid = row_grid(12, |x| if x % 2 == 0 { 1.0 } else { -0.5 });
+    let (g, m) = medium(
+        grid,
+        12.0,
+        Rgb::WHITE,
+        GridEmission::None,
+        ExactVoxels::Always,
+    );
+    let (ray, t_max) = along_row();
+    let expected = optical_depth(&g, &ray, t_max).exp_neg();
+    take_thread_stats();
+    let est = transmittance(&m, &ray, t_max, 20_000);
+    assert!(
+        take_thread_stats().collisions > 0,
+        "the clamped cells are tracked"
+    );
+    assert_estimate(&est, want(expected), "clamped cells");
 }
