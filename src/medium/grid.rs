@@ -470,18 +470,6 @@ impl GridMedium {
         }
     }
 
-    /// True when some point can emit.
-    pub fn is_emissive(&self) -> bool {
-        let absorbs = self.albedo.min_channel() < 1.0 && !self.sigma_t_unit.is_black();
-        let emits = match &self.emission {
-            EmissionSource::None => false,
-            EmissionSource::Constant(le) => !le.is_black(),
-            EmissionSource::Blackbody { emission_scale, .. }
-            | EmissionSource::Grid { emission_scale, .. } => !emission_scale.is_black(),
-        };
-        absorbs && emits && self.majorants.global_max() > 0.0
-    }
-
     /// Majorant segments along `ray` within `[0, t_max)`: one per non-empty majorant cell crossed.
     pub fn majorants(&self, ray: &Ray, t_max: f32) -> GridMajorants<'_> {
         let index_ray = Ray::new(
@@ -614,6 +602,104 @@ mod tests {
             let length = voxel_world_length(&grid, &to_world);
             assert!((length - expected).abs() < 1e-6, "{length} != {expected}");
         }
+    }
+
+    /// Along a row of 1 to 13 voxels, rays both ways (and one starting
+    /// inside): wherever the lookup is non-zero, some majorant segment
+    /// holds the point and bounds it. Rows whose support is a whole number of
+    /// cells are among them, where a grid box one half voxel short loses its
+    /// last cell.
+    #[test]
+    fn majorant_segments_cover_and_bound_every_lookup_of_a_row() {
+        for n in 1..=13 {
+            let values: Vec<f32> = (0..n).map(|i| 1.0 + (i % 3) as f32).collect();
+            let medium = GridMedium::new(grid_of(&values, 0.1), params(Affine3A::IDENTITY));
+            let (y, z) = (0.05, 0.05);
+            let rays = [
+                Ray::new(Vec3::new(-1.0, y, z), Vec3::X),
+                Ray::new(Vec3::new(0.1 * n as f32 + 1.0, y, z), -Vec3::X),
+                Ray::new(Vec3::new(0.1 * n as f32 * 0.5, y, z), Vec3::X),
+            ];
+            for ray in rays {
+                let segments: Vec<MajorantSegment> = medium.majorants(&ray, 10.0).collect();
+                let mut inside = 0;
+                for k in 0..20_000 {
+                    let t = 3.0 * (k as f32 + 0.5) / 20_000.0;
+                    let sigma_t = medium.sigma_t(ray.at(t)).max_channel();
+                    if sigma_t == 0.0 {
+                        continue;
+                    }
+                    inside += 1;
+                    let holder = segments.iter().find(|s| s.t0 <= t && t < s.t1);
+                    let Some(seg) = holder else {
+                        panic!(
+                            "{n} voxels, {ray:?}: σt {sigma_t} at t = {t} outside every segment"
+                        );
+                    };
+                    assert!(
+                        sigma_t <= seg.sigma_maj,
+                        "{n} voxels: σt {sigma_t} > σ̄ {} at t = {t}",
+                        seg.sigma_maj
+                    );
+                }
+                assert!(
+                    inside > 100,
+                    "{n} voxels, {ray:?}: the ray must cross the row"
+                );
+            }
+        }
+    }
+
+    /// The cells a medium gets: a 32nd of the trilinear support (225 voxels
+    /// for a row of 224: 8) where dense cells are walked exactly (grey σt),
+    /// else no more than 8 / (peak σt per voxel) voxels: 2 at a peak of
+    /// 2 · 16 · 0.1 = 3.2, the default again at a peak of 0.04.
+    #[test]
+    fn a_medium_gets_the_cells_its_tracking_needs() {
+        let values: Vec<f32> = (0..224).map(|i| 1.0 + (i % 2) as f32).collect();
+        let cases = [
+            (Rgb::WHITE, 8.0, 8.0),
+            (Rgb::new(1.0, 1.0, 2.0), 8.0, 2.0),
+            (Rgb::new(1.0, 1.0, 2.0), 0.1, 8.0),
+        ];
+        for (sigma_t_scale, density_scale, cell) in cases {
+            let params = GridMediumParams {
+                sigma_t_scale,
+                density_scale,
+                ..params(Affine3A::IDENTITY)
+            };
+            let medium = GridMedium::new(grid_of(&values, 0.1), params);
+            assert_eq!(
+                medium.majorant_grid().cell_size(),
+                Vec3::splat(cell),
+                "σt scale {sigma_t_scale:?}, density scale {density_scale}"
+            );
+        }
+    }
+
+    /// `Auto` walks a segment exactly from one expected collision per voxel
+    /// the ray crosses on (a ray crosses |dx| + |dy| + |dz| voxels per unit);
+    /// `Always` walks every segment, `Never` none.
+    #[test]
+    fn exact_walks_start_at_one_collision_per_voxel_crossed() {
+        let mut medium = GridMedium::new(grid_of(&[1.0, 2.0], 0.1), params(Affine3A::IDENTITY));
+        let d = Vec3::new(2.0, -3.0, 0.5);
+        for (mode, rate) in [
+            (ExactVoxels::Auto, 5.5),
+            (ExactVoxels::Always, 0.0),
+            (ExactVoxels::Never, f32::INFINITY),
+        ] {
+            medium.set_exact_voxels(mode);
+            assert_eq!(medium.exact_rate(d), rate, "{mode:?}");
+        }
+    }
+
+    /// Without a velocity grid a medium is static (`tests/motion_blur.rs`
+    /// checks the moving case).
+    #[test]
+    fn a_medium_without_velocities_is_static() {
+        let medium = GridMedium::new(grid_of(&[1.0, 2.0], 0.1), params(Affine3A::IDENTITY));
+        assert!(!medium.is_moving());
     }
 
     /// Lookups clamp negative values to 0 only where the grid holds some: a

@@ -236,11 +236,6 @@ impl HeightFog {
         }
         out
     }
-
-    /// True when the fog emits light.
-    pub fn is_emissive(&self) -> bool {
-        !self.emission.is_black() && !self.sigma_a.is_black()
-    }
 }
 
 /// expm1(x)/x, equal to 1 at x = 0 and accurate near it.
@@ -406,25 +401,6 @@ mod tests {
         let short = Ray::new(Vec3::new(0.0, y, 0.0), Vec3::new(0.6, -0.8, 0.0));
         let got = f.relative_depth(&short, 0.0, 1e-12);
         assert_eq!(got as f32, (level * 1e-12f32 as f64) as f32);
-    }
-
-    #[test]
-    fn fog_emits_only_with_emission_and_absorption() {
-        let glow = Rgb::new(0.0, 0.5, 2.0);
-        for (sigma_a, emission, emits) in [
-            (Rgb::splat(0.01), glow, true),
-            (Rgb::new(0.0, 0.0, 0.2), glow, true),
-            (Rgb::BLACK, glow, false),
-            (Rgb::splat(0.01), Rgb::BLACK, false),
-            (Rgb::BLACK, Rgb::BLACK, false),
-        ] {
-            let f = HeightFog {
-                sigma_a,
-                emission,
-                ..fog()
-            };
-            assert_eq!(f.is_emissive(), emits, "σa {sigma_a:?}, Le {emission:?}");
-        }
     }
 
     #[test]

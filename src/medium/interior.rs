@@ -221,14 +221,6 @@ impl InteriorMedium {
             InteriorContent::Grid(_) => None,
         }
     }
-
-    /// True when the content emits light.
-    pub fn is_emissive(&self) -> bool {
-        match &self.content {
-            InteriorContent::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
-            InteriorContent::Grid(m) => m.is_emissive(),
-        }
-    }
 }
 
 /// The content's own majorant segments, before clipping.

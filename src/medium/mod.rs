@@ -185,17 +185,6 @@ impl Medium {
         }
     }
 
-    /// True when the medium emits light.
-    pub fn is_emissive(&self) -> bool {
-        match self {
-            Medium::Homogeneous(m) => !m.emission.is_black() && !m.sigma_a.is_black(),
-            Medium::HeightFog(m) => m.is_emissive(),
-            Medium::Grid(m) => m.is_emissive(),
-            Medium::Interior(m) => m.is_emissive(),
-            Medium::Moving(m) => m.inner().is_emissive(),
-        }
-    }
-
     /// `self` moved by `keys` (`None`: unchanged); `self` must be built in its local frame.
     pub fn moved_by(self, keys: Option<crate::math::keyframes::Keyframes>) -> Medium {
         match keys {

@@ -91,17 +91,6 @@ fn extinction_is_absorption_plus_scattering_for_every_medium() {
     }
 }
 
-/// A homogeneous medium emits when it has emission and absorbs (source σa·Le).
-#[test]
-fn a_homogeneous_medium_emits_only_with_emission_and_absorption() {
-    let (a, s, le) = (Rgb::splat(0.2), Rgb::splat(0.5), Rgb::splat(1.5));
-    assert!(Medium::Homogeneous(boxed(a, s, le)).is_emissive());
-    assert!(!Medium::Homogeneous(boxed(a, s, Rgb::BLACK)).is_emissive());
-    assert!(!Medium::Homogeneous(boxed(Rgb::BLACK, s, le)).is_emissive());
-    assert!(moving(Medium::Homogeneous(boxed(a, s, le))).is_emissive());
-    assert!(!moving(Medium::Homogeneous(boxed(a, s, Rgb::BLACK))).is_emissive());
-}
-
 /// A decaying majorant σ̄(t) = σ̄₀ e^(−k (t − t0)) starts at σ̄₀ at the
 /// segment's start, wherever that start is, and falls by e^(−k) per unit.
 #[test]
