@@ -300,8 +300,8 @@ mod tests {
     /// A ray through 20 cubes in a row crosses the mesh 40 times: the
     /// 32 nearest crossings are kept, the 16 cubes they bound are inside, the
     /// rest of the ray is taken as outside, and the query is counted on this
-    /// thread; a query ending before the last kept crossing is whole and
-    /// not counted.
+    /// thread (from outside the row or from inside its first cube); a query
+    /// ending before the last kept crossing is whole and not counted.
     #[test]
     fn a_ray_past_the_crossing_limit_is_cut_and_counted() {
         use crate::geometry::{closed::tests::cube, Primitive};
@@ -324,15 +324,42 @@ mod tests {
         let cut = mask.intervals(&ray, 1000.0);
         assert_eq!(take_thread_truncated_queries(), 1);
         assert_eq!(cut.as_slice().len(), MAX_CROSSINGS / 2);
+        assert_eq!(cut.as_slice()[0], (2.0, 4.0), "outside at the origin");
         let last = cut.as_slice()[MAX_CROSSINGS / 2 - 1];
         assert!(
             (last.0 - 47.0).abs() < 1e-4 && (last.1 - 49.0).abs() < 1e-4,
             "{last:?}"
         );
+        // From inside the first cube the 32nd crossing enters the 17th cube:
+        // the cut leaves nothing of it.
+        let from_inside = Ray::new(Vec3::new(0.0, 0.1, 0.2), Vec3::X);
+        let cut = mask.intervals(&from_inside, 1000.0);
+        assert_eq!(take_thread_truncated_queries(), 1);
+        assert_eq!(cut.as_slice().len(), MAX_CROSSINGS / 2);
+        assert_eq!(cut.as_slice()[0], (0.0, 1.0));
+        assert_eq!(cut.as_slice()[MAX_CROSSINGS / 2 - 1], (44.0, 46.0));
         let whole = mask.intervals(&ray, 45.0);
         assert_eq!(take_thread_truncated_queries(), 0);
         assert_eq!(whole.as_slice().len(), 15);
         assert_eq!(whole.as_slice()[14], (44.0, 45.0));
+    }
+
+    /// A ray through the diagonal edges of two faces of a cube hits both
+    /// triangles of each: the second crossing of each pair changes nothing
+    /// (the ray is inside for t in [2, 4], from outside or from inside).
+    #[test]
+    fn a_crossing_through_an_edge_counts_once() {
+        use crate::geometry::closed::tests::cube;
+        let mask = ShapeMask::Mesh(Arc::new(ClosedMesh::new(cube(true)).expect("closed")));
+        // The faces z = ±1 are cut along their diagonals x = y.
+        let ray = Ray::new(Vec3::new(0.3, 0.3, -3.0), Vec3::Z);
+        let ShapeMask::Mesh(mesh) = &mask else {
+            unreachable!()
+        };
+        assert_eq!(mesh.crossings(&ray).len, 4, "both triangles of each face");
+        assert_eq!(mask.intervals(&ray, 10.0).as_slice(), &[(2.0, 4.0)]);
+        let from_inside = Ray::new(Vec3::new(0.3, 0.3, 0.0), Vec3::Z);
+        assert_eq!(mask.intervals(&from_inside, 10.0).as_slice(), &[(0.0, 1.0)]);
     }
 
     #[test]

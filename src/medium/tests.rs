@@ -112,3 +112,39 @@ fn a_decaying_majorant_starts_at_its_segment() {
     let flat = MajorantSegment { decay: 0.0, ..seg };
     assert_eq!(flat.majorant_at(7.0), 2.0);
 }
+
+/// A homogeneous medium has its coefficients inside its region and none
+/// outside it.
+#[test]
+fn a_homogeneous_medium_is_empty_outside_its_region() {
+    let m = boxed(Rgb::new(0.2, 0.3, 0.4), Rgb::splat(0.5), Rgb::BLACK);
+    let inside = m.properties(Vec3::new(0.5, -0.5, 0.9));
+    assert_eq!((inside.sigma_a, inside.sigma_s), (m.sigma_a, m.sigma_s));
+    let outside = m.properties(Vec3::new(1.5, 0.0, 0.0));
+    assert_eq!((outside.sigma_a, outside.sigma_s), (Rgb::BLACK, Rgb::BLACK));
+}
+
+/// The optical depth over [t0, t1] counts only the part inside the region:
+/// a ray from x = −3 along x is inside the box [−1, 1]³ for t in [2, 4].
+#[test]
+fn homogeneous_optical_depth_counts_only_the_region() {
+    let m = boxed(Rgb::new(0.2, 0.3, 0.4), Rgb::splat(0.5), Rgb::BLACK);
+    let ray = Ray::new(Vec3::new(-3.0, 0.0, 0.0), Vec3::X);
+    for (t0, t1, inside) in [
+        (0.0, 10.0, 2.0),
+        (3.0, 10.0, 1.0),
+        (0.0, 3.0, 1.0),
+        (2.5, 3.5, 1.0),
+        (5.0, 10.0, 0.0),
+        (0.0, 1.0, 0.0),
+    ] {
+        let depth = m.optical_depth(&ray, t0, t1);
+        let want = m.sigma_t() * inside;
+        for c in 0..3 {
+            assert!(
+                (depth[c] - want[c]).abs() < 1e-6,
+                "[{t0}, {t1}]: {depth:?} != {want:?}"
+            );
+        }
+    }
+}
