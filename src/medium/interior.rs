@@ -357,9 +357,33 @@ mod tests {
             unreachable!()
         };
         assert_eq!(mesh.crossings(&ray).len, 4, "both triangles of each face");
+        take_thread_truncated_queries();
         assert_eq!(mask.intervals(&ray, 10.0).as_slice(), &[(2.0, 4.0)]);
+        assert_eq!(
+            take_thread_truncated_queries(),
+            0,
+            "four crossings: none cut"
+        );
         let from_inside = Ray::new(Vec3::new(0.3, 0.3, 0.0), Vec3::Z);
         assert_eq!(mask.intervals(&from_inside, 10.0).as_slice(), &[(0.0, 1.0)]);
+    }
+
+    /// A content segment that starts past an interval moves on to the
+    /// interval it meets.
+    #[test]
+    fn a_segment_past_an_interval_is_clipped_to_the_next() {
+        let mut intervals = Intervals::EMPTY;
+        intervals.push(1.0, 2.0);
+        intervals.push(3.0, 6.0);
+        intervals.push(8.0, 9.0);
+        let clipped = MaskedMajorants {
+            inner: MaskedInner::Single(Some(segment(4.0, 10.0, 2.0))),
+            intervals,
+            index: 0,
+            pending: None,
+        };
+        let got: Vec<(f32, f32)> = clipped.map(|s| (s.t0, s.t1)).collect();
+        assert_eq!(got, vec![(4.0, 6.0), (8.0, 9.0)]);
     }
 
     #[test]

@@ -148,3 +148,48 @@ fn homogeneous_optical_depth_counts_only_the_region() {
         }
     }
 }
+
+/// An interior medium has its content's coefficients inside its mask and
+/// none outside it, though its content fills the point (a box of half-width
+/// 1 masked to half-width 0.75).
+#[test]
+fn an_interior_medium_is_empty_outside_its_mask() {
+    let content = boxed(Rgb::new(0.3, 0.1, 0.2), Rgb::new(0.5, 0.9, 0.4), Rgb::BLACK);
+    let interior = InteriorMedium {
+        content: InteriorContent::Homogeneous(content.clone()),
+        mask: ShapeMask::Region(Region::Box {
+            world_to_local: Affine3A::IDENTITY,
+            local: Bounds3::new(Vec3::splat(-0.75), Vec3::splat(0.75)),
+        }),
+    };
+    let inside = interior.properties(Vec3::new(0.5, 0.0, 0.0), 0.0);
+    assert_eq!(
+        (inside.sigma_a, inside.sigma_s),
+        (content.sigma_a, content.sigma_s)
+    );
+    let outside = interior.properties(Vec3::new(0.9, 0.0, 0.0), 0.0);
+    assert_eq!((outside.sigma_a, outside.sigma_s), (Rgb::BLACK, Rgb::BLACK));
+}
+
+/// A moving homogeneous medium keeps its closed-form optical depth, along
+/// the ray in the medium's frame at the ray's time: at time 0.25 the box
+/// [−1, 1]³ has slid to x in [−0.65, 1.35].
+#[test]
+fn a_moving_homogeneous_medium_has_a_closed_form_optical_depth() {
+    let content = boxed(Rgb::new(0.3, 0.1, 0.2), Rgb::new(0.5, 0.9, 0.4), Rgb::BLACK);
+    let sigma_t = content.sigma_t();
+    let medium = moving(Medium::Homogeneous(content));
+    let ray = Ray {
+        time: 0.25,
+        ..Ray::new(Vec3::new(-3.0, 0.0, 0.0), Vec3::X)
+    };
+    for (t1, inside) in [(10.0, 2.0), (3.0, 0.65)] {
+        let depth = medium.optical_depth(&ray, 0.0, t1).expect("a closed form");
+        for c in 0..3 {
+            assert!(
+                (depth[c] - sigma_t[c] * inside).abs() < 1e-5,
+                "t1 = {t1}: {depth:?}"
+            );
+        }
+    }
+}
