@@ -159,3 +159,19 @@ pub(crate) fn dilated_majorants(
     let grid = MajorantGrid::build(density, lo - pad, hi + pad, cell).dilated(k, (lo, hi));
     (grid, pad)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A medium that moves up to `r` voxels over the shutter needs its
+    /// majorants widened by ⌈r / cell⌉ cells: a cell short and the bound
+    /// misses density that moved in; more only costs null collisions.
+    #[test]
+    fn motion_widens_the_majorants_by_whole_cells_covering_the_radius() {
+        let cell = Vec3::splat(4.0);
+        let r = Vec3::new(5.0, 8.0, 0.5);
+        assert_eq!(dilation_cells(r, cell), IVec3::new(2, 2, 1));
+        assert_eq!(dilation_cells(Vec3::ZERO, cell), IVec3::ZERO);
+    }
+}
