@@ -376,6 +376,52 @@ fn dense_vdb_costs_about_what_the_homogeneous_medium_costs() {
     );
 }
 
+/// A render reports the rays the tracking cap ended, its own and no
+/// others: a grid whose one dense voxel sets a global majorant of 10⁶ per
+/// unit, tracked by null collisions only (no exact walk), ends every ray
+/// through it at the cap, on two threads; the same grid walked exactly caps none.
+#[test]
+fn a_render_counts_the_rays_it_capped() {
+    use brume::render::{render, RenderOptions};
+    use std::sync::atomic::AtomicBool;
+    let mut scene = common::scene_from_str(
+        "[camera]\nposition = [4.0, 1.0, 10.0]\nlook_at = [4.0, 1.0, 0.0]\nfov = 5.0\nresolution = [4, 4]\n\
+         [[light]]\ntype = \"point\"\nposition = [4.0, 5.0, 5.0]\nintensity = 1.0\n",
+    );
+    let options = RenderOptions {
+        spp: 1,
+        time_budget: None,
+        spp_is_cap: false,
+        threads: Some(2),
+        progress: false,
+    };
+    for (exact, capped) in [(ExactVoxels::Never, true), (ExactVoxels::Always, false)] {
+        let grid = row_grid(16, |x| if x == 15 { 1.0 } else { 1e-6 });
+        let params = GridMediumParams {
+            to_world: Affine3A::from_scale(Vec3::splat(10.0)),
+            density_scale: 1e5,
+            sigma_t_scale: Rgb::WHITE,
+            albedo: Rgb::splat(0.5),
+            phase: PhaseFunction::Isotropic,
+            emission: GridEmission::None,
+            majorant: MajorantMode::Global,
+            cell_size: None,
+        };
+        let mut g = GridMedium::new(grid, params);
+        g.set_exact_voxels(exact);
+        scene.media = vec![Medium::Grid(Arc::new(g))];
+        let out = render(&scene, &options, &AtomicBool::new(false));
+        match capped {
+            true => assert!(
+                out.tracking.capped_rays >= 16,
+                "every camera ray is capped: {:?}",
+                out.tracking
+            ),
+            false => assert_eq!(out.tracking.capped_rays, 0, "{:?}", out.tracking),
+        }
+    }
+}
+
 /// In `Auto` mode one ray can cross thin cells (ratio tracking) and then
 /// dense ones (the exact walk): the transmittance is the product over all
 /// of them, each segment picking up the weight the previous ones left.

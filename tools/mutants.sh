@@ -51,7 +51,7 @@ majorant)
 medium)
     files=(-f 'src/medium/**' -e src/medium/majorant_grid.rs -e src/medium/phase.rs
         -e 'src/medium/phase/**' -e src/medium/height_fog.rs -e src/medium/blackbody.rs)
-    tests=(--lib "${render[@]}" "${media[@]}" --test sampling_chi2) ;;
+    tests=(--lib "${render[@]}" "${media[@]}" --test sampling_chi2 --test majorant_grid) ;;
 phase)
     files=(-f src/medium/phase.rs -f 'src/medium/phase/**')
     tests=(--lib --test sampling_chi2 "${render[@]}") ;;
