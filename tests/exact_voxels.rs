@@ -429,20 +429,9 @@ fn a_render_counts_the_rays_it_capped() {
 /// scale 25: 0.0025 and 1.25 expected collisions a voxel.
 #[test]
 fn auto_transmittance_through_thin_then_dense_cells_is_unbiased() {
-    let grid = row_grid(160, |x| if x < 156 { 0.002 } else { 1.0 });
-    let (g, m) = medium(
-        grid,
-        25.0,
-        Rgb::WHITE,
-        GridEmission::None,
-        ExactVoxels::Auto,
-    );
-    let (ray, t_max) = along_row();
-    let expected = optical_depth(&g, &ray, t_max).exp_neg();
     let rays = 20_000;
-    take_thread_stats();
-    let est = transmittance(&m, &ray, t_max, rays as usize);
-    let stats = take_thread_stats();
+    let (est, expected, stats) =
+        auto_along_row(row_grid(160, |x| if x < 156 { 0.002 } else { 1.0 }));
     // Both, each where it belongs: a fraction of a null collision a ray in
     // the thin cells, voxel steps in the cells around the dense voxels
     // (tracking those instead would take dozens of collisions a ray).
@@ -475,13 +464,9 @@ fn along_row() -> (Ray, f32) {
     (ray, 10.0)
 }
 
-/// Dense, thin, then dense again (`Auto`): the exact walk of the second
-/// dense run starts where that run starts, not where the first one
-/// stopped, so the thin cells between them (optical depth about 0.7,
-/// ratio-tracked) are not integrated a second time by the walk.
-#[test]
-fn auto_transmittance_through_dense_thin_dense_cells_is_unbiased() {
-    let grid = row_grid(60, |x| if (2..58).contains(&x) { 0.01 } else { 1.0 });
+/// 20 000 transmittance samples along a [`row_grid`] at density scale 25
+/// (`Auto`), the quadrature they should average to, and what they cost.
+fn auto_along_row(grid: FloatGrid) -> (Estimate, Rgb, brume::integrator::tracking::TrackingStats) {
     let (g, m) = medium(
         grid,
         25.0,
@@ -493,7 +478,17 @@ fn auto_transmittance_through_dense_thin_dense_cells_is_unbiased() {
     let expected = optical_depth(&g, &ray, t_max).exp_neg();
     take_thread_stats();
     let est = transmittance(&m, &ray, t_max, 20_000);
-    let stats = take_thread_stats();
+    (est, expected, take_thread_stats())
+}
+
+/// Dense, thin, then dense again (`Auto`): the exact walk of the second
+/// dense run starts where that run starts, not where the first one
+/// stopped, so the thin cells between them (optical depth about 0.7,
+/// ratio-tracked) are not integrated a second time by the walk.
+#[test]
+fn auto_transmittance_through_dense_thin_dense_cells_is_unbiased() {
+    let grid = row_grid(60, |x| if (2..58).contains(&x) { 0.01 } else { 1.0 });
+    let (est, expected, stats) = auto_along_row(grid);
     assert!(
         stats.collisions > 0,
         "the thin cells are tracked: {stats:?}"

@@ -136,17 +136,23 @@ fn blackbody_emission_follows_documented_normalization() {
     }
     // Reddish at 1500 K.
     assert!(le[0] > le[1] && le[1] > le[2]);
+    // Le as the medium evaluates it (checked above against the Planck integral to 2e-3):
+    // the render itself must then match to its standard error
+    assert_thick_emitter_pixel(medium, at, sigma_t, 11, "blackbody pixel");
+}
+
+/// A pixel looking through the unit cube of `medium` (a pure absorber of
+/// extinction `sigma_t` emitting `le`) in front of black: Le·(1 − e^(−σt)).
+fn assert_thick_emitter_pixel(medium: GridMedium, le: Rgb, sigma_t: f32, seed: u64, what: &str) {
     let mut scene = scene_from_str(&furnace_scene(
         "[[medium]]\ntype = \"homogeneous\"\nsigma_a = 1.0\nglobal = true\n",
         0.0,
     ));
     scene.media = vec![Medium::Grid(Arc::new(medium))];
     let c = 15.5 / 32.0;
-    let est = estimate_ray(&scene, Ray::new(Vec3::new(c, c, -2.0), Vec3::Z), 4096, 11);
-    // Le as the medium evaluates it (checked above against the Planck integral to 2e-3):
-    // the render itself must then match to its standard error
-    let want: [f64; 3] = std::array::from_fn(|ch| at[ch] as f64 * (1.0 - (-sigma_t as f64).exp()));
-    assert_estimate(&est, want, "blackbody pixel");
+    let est = estimate_ray(&scene, Ray::new(Vec3::new(c, c, -2.0), Vec3::Z), 4096, seed);
+    let want: [f64; 3] = std::array::from_fn(|ch| le[ch] as f64 * (1.0 - (-sigma_t as f64).exp()));
+    assert_estimate(&est, want, what);
 }
 
 /// An emission grid emits emission_scale · max(0, value) (a per-channel
@@ -186,15 +192,7 @@ fn an_emission_grid_emits_its_scaled_values() {
             le[c]
         );
     }
-    let mut scene = scene_from_str(&furnace_scene(
-        "[[medium]]\ntype = \"homogeneous\"\nsigma_a = 1.0\nglobal = true\n",
-        0.0,
-    ));
-    scene.media = vec![Medium::Grid(Arc::new(glowing))];
-    let c = 15.5 / 32.0;
-    let est = estimate_ray(&scene, Ray::new(Vec3::new(c, c, -2.0), Vec3::Z), 4096, 12);
-    let want: [f64; 3] = std::array::from_fn(|ch| le[ch] as f64 * (1.0 - (-sigma_t as f64).exp()));
-    assert_estimate(&est, want, "emission-grid pixel");
+    assert_thick_emitter_pixel(glowing, le, sigma_t, 12, "emission-grid pixel");
 }
 
 fn build_error(medium: &str) -> String {
