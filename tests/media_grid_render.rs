@@ -109,22 +109,13 @@ fn blackbody_emission_follows_documented_normalization() {
     let le =
         expected_blackbody((value * temperature_scale) as f64).map(|v| v * emission_scale as f64);
     let sigma_t = 3.0f32;
-    let params = GridMediumParams {
-        to_world: Affine3A::IDENTITY,
-        density_scale: sigma_t,
-        sigma_t_scale: Rgb::WHITE,
-        albedo: Rgb::BLACK,
-        phase: PhaseFunction::Isotropic,
-        emission: GridEmission::Blackbody {
-            // The temperature grid reaches past the density's fall-off, so Le is constant where σa > 0.
-            temperature: constant_grid("temperature", value, 4),
-            temperature_scale,
-            emission_scale: Rgb::splat(emission_scale),
-        },
-        majorant: MajorantMode::Grid,
-        cell_size: None,
+    let emission = GridEmission::Blackbody {
+        // The temperature grid reaches past the density's fall-off, so Le is constant where σa > 0.
+        temperature: constant_grid("temperature", value, 4),
+        temperature_scale,
+        emission_scale: Rgb::splat(emission_scale),
     };
-    let medium = GridMedium::new(constant_grid("density", 1.0, 0), params);
+    let medium = thick_emitter(emission, sigma_t);
     let at = medium.properties(Vec3::splat(0.5)).emission;
     for c in 0..3 {
         assert!(
@@ -139,6 +130,21 @@ fn blackbody_emission_follows_documented_normalization() {
     // Le as the medium evaluates it (checked above against the Planck integral to 2e-3):
     // the render itself must then match to its standard error
     assert_thick_emitter_pixel(medium, at, sigma_t, 11, "blackbody pixel");
+}
+
+/// A pure absorber of extinction `sigma_t` over the unit cube, emitting `emission`.
+fn thick_emitter(emission: GridEmission, sigma_t: f32) -> GridMedium {
+    let params = GridMediumParams {
+        to_world: Affine3A::IDENTITY,
+        density_scale: sigma_t,
+        sigma_t_scale: Rgb::WHITE,
+        albedo: Rgb::BLACK,
+        phase: PhaseFunction::Isotropic,
+        emission,
+        majorant: MajorantMode::Grid,
+        cell_size: None,
+    };
+    GridMedium::new(constant_grid("density", 1.0, 0), params)
 }
 
 /// A pixel looking through the unit cube of `medium` (a pure absorber of
@@ -163,21 +169,12 @@ fn an_emission_grid_emits_its_scaled_values() {
     let emission_scale = Rgb::new(0.5, 1.0, 2.0);
     let sigma_t = 3.0f32;
     let medium = |value: f32| {
-        let params = GridMediumParams {
-            to_world: Affine3A::IDENTITY,
-            density_scale: sigma_t,
-            sigma_t_scale: Rgb::WHITE,
-            albedo: Rgb::BLACK,
-            phase: PhaseFunction::Isotropic,
-            emission: GridEmission::Grid {
-                // Past the density's fall-off, so Le is constant where σa > 0.
-                grid: constant_grid("emission", value, 4),
-                emission_scale,
-            },
-            majorant: MajorantMode::Grid,
-            cell_size: None,
+        let emission = GridEmission::Grid {
+            // Past the density's fall-off, so Le is constant where σa > 0.
+            grid: constant_grid("emission", value, 4),
+            emission_scale,
         };
-        GridMedium::new(constant_grid("density", 1.0, 0), params)
+        thick_emitter(emission, sigma_t)
     };
     let negative = medium(-0.3).properties(Vec3::splat(0.5)).emission;
     assert_eq!(negative, Rgb::BLACK, "negative emission values are clamped");
