@@ -41,6 +41,17 @@ fn moving(inner: Medium) -> Medium {
     inner.moved_by(Some(keys))
 }
 
+/// `content` as an interior medium masked to the box [−0.75, 0.75]³.
+fn masked(content: HomogeneousMedium) -> InteriorMedium {
+    InteriorMedium {
+        content: InteriorContent::Homogeneous(content),
+        mask: ShapeMask::Region(Region::Box {
+            world_to_local: Affine3A::IDENTITY,
+            local: Bounds3::new(Vec3::splat(-0.75), Vec3::splat(0.75)),
+        }),
+    }
+}
+
 /// σt read alone (what shadow rays read) is σa + σs of the full properties
 /// (what free flights read), for every kind of medium, at points inside and
 /// outside, at several times.
@@ -48,13 +59,7 @@ fn moving(inner: Medium) -> Medium {
 fn extinction_is_absorption_plus_scattering_for_every_medium() {
     let homogeneous = boxed(Rgb::new(0.3, 0.1, 0.2), Rgb::new(0.5, 0.9, 0.4), Rgb::BLACK);
     // A box-masked interior: the point at (0.9, 0.3, -0.8) lies outside its mask.
-    let interior = InteriorMedium {
-        content: InteriorContent::Homogeneous(homogeneous.clone()),
-        mask: ShapeMask::Region(Region::Box {
-            world_to_local: Affine3A::IDENTITY,
-            local: Bounds3::new(Vec3::splat(-0.75), Vec3::splat(0.75)),
-        }),
-    };
+    let interior = masked(homogeneous.clone());
     let media = [
         Medium::Homogeneous(homogeneous.clone()),
         Medium::HeightFog(fog()),
@@ -155,13 +160,7 @@ fn homogeneous_optical_depth_counts_only_the_region() {
 #[test]
 fn an_interior_medium_is_empty_outside_its_mask() {
     let content = boxed(Rgb::new(0.3, 0.1, 0.2), Rgb::new(0.5, 0.9, 0.4), Rgb::BLACK);
-    let interior = InteriorMedium {
-        content: InteriorContent::Homogeneous(content.clone()),
-        mask: ShapeMask::Region(Region::Box {
-            world_to_local: Affine3A::IDENTITY,
-            local: Bounds3::new(Vec3::splat(-0.75), Vec3::splat(0.75)),
-        }),
-    };
+    let interior = masked(content.clone());
     let inside = interior.properties(Vec3::new(0.5, 0.0, 0.0), 0.0);
     assert_eq!(
         (inside.sigma_a, inside.sigma_s),
