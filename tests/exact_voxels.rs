@@ -429,14 +429,13 @@ fn a_render_counts_the_rays_it_capped() {
 /// scale 25: 0.0025 and 1.25 expected collisions a voxel.
 #[test]
 fn auto_transmittance_through_thin_then_dense_cells_is_unbiased() {
-    let rays = 20_000;
-    let (est, expected, stats) =
-        auto_along_row(row_grid(160, |x| if x < 156 { 0.002 } else { 1.0 }));
+    let grid = row_grid(160, |x| if x < 156 { 0.002 } else { 1.0 });
+    let (est, expected, stats) = along_row_samples(grid, 25.0, ExactVoxels::Auto);
     // Both, each where it belongs: a fraction of a null collision a ray in
     // the thin cells, voxel steps in the cells around the dense voxels
     // (tracking those instead would take dozens of collisions a ray).
     assert!(
-        stats.collisions > 0 && stats.collisions < rays,
+        stats.collisions > 0 && stats.collisions < ROW_SAMPLES as u64,
         "collisions: {stats:?}"
     );
     assert!(stats.voxel_steps > 0, "voxel steps: {stats:?}");
@@ -464,20 +463,22 @@ fn along_row() -> (Ray, f32) {
     (ray, 10.0)
 }
 
-/// 20 000 transmittance samples along a [`row_grid`] at density scale 25
-/// (`Auto`), the quadrature they should average to, and what they cost.
-fn auto_along_row(grid: FloatGrid) -> (Estimate, Rgb, brume::integrator::tracking::TrackingStats) {
-    let (g, m) = medium(
-        grid,
-        25.0,
-        Rgb::WHITE,
-        GridEmission::None,
-        ExactVoxels::Auto,
-    );
+/// Transmittance samples a [`row_grid`] test takes.
+const ROW_SAMPLES: usize = 20_000;
+
+/// [`ROW_SAMPLES`] transmittance samples along a [`row_grid`] at
+/// `density_scale` (grey σt), the quadrature they should average to, and
+/// what they cost.
+fn along_row_samples(
+    grid: FloatGrid,
+    density_scale: f32,
+    exact: ExactVoxels,
+) -> (Estimate, Rgb, brume::integrator::tracking::TrackingStats) {
+    let (g, m) = medium(grid, density_scale, Rgb::WHITE, GridEmission::None, exact);
     let (ray, t_max) = along_row();
     let expected = optical_depth(&g, &ray, t_max).exp_neg();
     take_thread_stats();
-    let est = transmittance(&m, &ray, t_max, 20_000);
+    let est = transmittance(&m, &ray, t_max, ROW_SAMPLES);
     (est, expected, take_thread_stats())
 }
 
@@ -488,7 +489,7 @@ fn auto_along_row(grid: FloatGrid) -> (Estimate, Rgb, brume::integrator::trackin
 #[test]
 fn auto_transmittance_through_dense_thin_dense_cells_is_unbiased() {
     let grid = row_grid(60, |x| if (2..58).contains(&x) { 0.01 } else { 1.0 });
-    let (est, expected, stats) = auto_along_row(grid);
+    let (est, expected, stats) = along_row_samples(grid, 25.0, ExactVoxels::Auto);
     assert!(
         stats.collisions > 0,
         "the thin cells are tracked: {stats:?}"
@@ -504,20 +505,7 @@ fn auto_transmittance_through_dense_thin_dense_cells_is_unbiased() {
 #[test]
 fn transmittance_through_clamped_cells_only_is_unbiased() {
     let grid = row_grid(12, |x| if x % 2 == 0 { 1.0 } else { -0.5 });
-    let (g, m) = medium(
-        grid,
-        12.0,
-        Rgb::WHITE,
-        GridEmission::None,
-        ExactVoxels::Always,
-    );
-    let (ray, t_max) = along_row();
-    let expected = optical_depth(&g, &ray, t_max).exp_neg();
-    take_thread_stats();
-    let est = transmittance(&m, &ray, t_max, 20_000);
-    assert!(
-        take_thread_stats().collisions > 0,
-        "the clamped cells are tracked"
-    );
+    let (est, expected, stats) = along_row_samples(grid, 12.0, ExactVoxels::Always);
+    assert!(stats.collisions > 0, "the clamped cells are tracked");
     assert_estimate(&est, want(expected), "clamped cells");
 }
