@@ -10,6 +10,7 @@ mod common;
 use brume::color::Rgb;
 use brume::integrator::tracking::{
     medium_transmittance, sample_free_flight, take_thread_stats, FreeFlight,
+    MAX_TENTATIVE_COLLISIONS,
 };
 use brume::integrator::TransmittanceEstimator;
 use brume::math::{Affine3A, Quat, Ray, Vec3};
@@ -461,6 +462,50 @@ fn along_row() -> (Ray, f32) {
         frame.transform_vector3(Vec3::X),
     );
     (ray, 10.0)
+}
+
+/// The exact walk counts its voxel steps against the same cap as
+/// tentative collisions: a ray along a row of 70 000 voxels (density
+/// 10⁻⁶, so its transmittance is about 1) is ended at the cap, after
+/// exactly the cap's number of voxel steps; a shadow ray returns 0 and is
+/// counted once, and a free flight ends the path, instead of walking on.
+#[test]
+fn an_exact_walk_past_the_step_cap_is_ended() {
+    let grid = row_grid(70_000, |_| 1.0);
+    let (_, m) = medium(
+        grid,
+        1e-6,
+        Rgb::WHITE,
+        GridEmission::None,
+        ExactVoxels::Always,
+    );
+    let (ray, _) = along_row();
+    let mut sampler = Sampler::from_seed(3);
+    take_thread_stats();
+    let tr = medium_transmittance(
+        &m,
+        &ray,
+        f32::INFINITY,
+        TransmittanceEstimator::Auto,
+        &mut sampler,
+    );
+    assert_eq!(tr, Rgb::BLACK, "a capped shadow ray returns 0");
+    let stats = take_thread_stats();
+    assert_eq!(stats.voxel_steps, MAX_TENTATIVE_COLLISIONS as u64);
+    assert_eq!(stats.capped_rays, 1);
+    let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+    let flight = sample_free_flight(
+        std::slice::from_ref(&m),
+        &ray,
+        f32::INFINITY,
+        &mut throughput,
+        &mut radiance,
+        &mut sampler,
+    );
+    assert!(
+        matches!(flight, FreeFlight::Absorbed) && throughput == Rgb::BLACK,
+        "a capped free flight ends the path: {flight:?}, throughput {throughput:?}"
+    );
 }
 
 /// Transmittance samples a [`row_grid`] test takes.

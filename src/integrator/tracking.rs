@@ -688,7 +688,7 @@ mod tests {
     }
 
     /// A free flight along `ray` through `media` ends the path: absorbed, throughput 0.
-    pub(super) fn assert_flight_ends_the_path(media: &[Medium], ray: &Ray, sampler: &mut Sampler) {
+    fn assert_flight_ends_the_path(media: &[Medium], ray: &Ray, sampler: &mut Sampler) {
         let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
         let out = sample_free_flight(
             media,
