@@ -321,6 +321,41 @@ mod tests {
         );
     }
 
+    /// A density that touches 0 inside the span, (w − a)², and (w − a)²(1 + w):
+    /// Newton's slope is 0 or tiny near `a`, so an unguarded step would leave
+    /// the span (to ±∞ at a zero, or so far that 40 steps do not come back).
+    /// Every first guess `target / total` near `a` and elsewhere still gives
+    /// the fraction whose integral is the target.
+    #[test]
+    fn solve_integral_survives_a_zero_of_the_density() {
+        for a in [0.25f32, 0.5, 0.75, 0.9] {
+            let square = [a * a, -2.0 * a, 1.0, 0.0];
+            let times_ramp = [
+                square[0],
+                square[0] + square[1],
+                square[1] + square[2],
+                square[2],
+            ];
+            for c in [square, times_ramp] {
+                let cubic = Cubic(c);
+                let total = cubic.integral(1.0);
+                let guesses = (0..=100).map(|k| k as f32 / 100.0);
+                let near_zero = [-1e-3f32, -1e-5, 0.0, 1e-5, 1e-3].map(|d| a + d);
+                for guess in guesses.chain(near_zero) {
+                    let target = total * guess;
+                    let w = cubic.solve_integral(target);
+                    // Within 2⁻¹⁹ of the fraction where the density is steep (the
+                    // iteration's stopping step), or of the integral where it is flat.
+                    let allowed = 2e-6 * total + cubic.eval(w).abs() / (1 << 19) as f32;
+                    assert!(
+                        (0.0..=1.0).contains(&w) && (cubic.integral(w) - target).abs() <= allowed,
+                        "a = {a}, {c:?}, first guess {guess}: w = {w}"
+                    );
+                }
+            }
+        }
+    }
+
     /// A walk stopped anywhere (mid-cell too) and extended gives the spans of one whole walk.
     #[test]
     fn extended_walk_matches_one_walk() {
