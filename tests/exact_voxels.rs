@@ -181,11 +181,8 @@ fn exact_transmittance_with_roulette_and_negative_voxels_is_unbiased() {
     }
 }
 
-/// Free flights through a grey grid: they pass with weight 1 and probability
-/// exp(-τ(t_max)), and scatter before t with probability 1 - exp(-τ(t)), with
-/// weight α and σt equal to the lookup at the scattering point. With negative
-/// voxels (cells tracked by null collisions, whose weights vary) the weighted
-/// versions hold: E[β·pass] = T and E[β/α·scatter before t] = 1 - exp(-τ(t)).
+/// Free flights through a grey noisy grid, without and with negative voxels,
+/// follow the optical depth ([`assert_flights_follow_the_optical_depth`]).
 #[test]
 fn exact_free_flight_distances_follow_the_optical_depth() {
     for lo in [0.0, -0.8] {
@@ -198,58 +195,101 @@ fn exact_free_flight_distances_follow_the_optical_depth() {
         );
         for (k, (ray, t_max)) in rays().iter().enumerate() {
             let cuts = [0.25 * t_max, 0.5 * t_max, *t_max];
-            let mut before = [(); 3].map(|_| Accumulator::default());
-            let mut passed = Accumulator::default();
-            for i in 0..20_000u64 {
-                let mut sampler = Sampler::new(9, 8, 7, i);
-                let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-                let f = sample_free_flight(
-                    std::slice::from_ref(&m),
-                    ray,
-                    *t_max,
-                    &mut beta,
-                    &mut radiance,
-                    &mut sampler,
-                );
-                let (t, weight) = match f {
-                    FreeFlight::Scatter { t, properties, .. } => {
-                        let sigma_t = (properties.sigma_a + properties.sigma_s).r;
-                        let lookup = g.sigma_t(ray.at(t)).r;
-                        assert!(
-                            (sigma_t - lookup).abs() <= 1e-4 * lookup.max(1.0),
-                            "σt {sigma_t} at the scattering point, lookup {lookup}"
-                        );
-                        if lo >= 0.0 {
-                            assert!((beta.r - 0.7).abs() < 1e-6, "weight {beta:?}");
-                        }
-                        passed.add(Rgb::BLACK);
-                        (t, beta / 0.7)
-                    }
-                    FreeFlight::Passed => {
-                        if lo >= 0.0 {
-                            assert_eq!(beta, Rgb::WHITE);
-                        }
-                        passed.add(beta);
-                        (f32::INFINITY, Rgb::BLACK)
-                    }
-                    FreeFlight::Absorbed => {
-                        passed.add(Rgb::BLACK);
-                        (f32::INFINITY, Rgb::BLACK)
-                    }
-                };
-                for (acc, &cut) in before.iter_mut().zip(&cuts) {
-                    acc.add(if t < cut { weight } else { Rgb::BLACK });
-                }
-            }
             let what = format!("density from {lo}, ray {k}");
-            let tr = optical_depth(&g, ray, *t_max).exp_neg();
-            assert_estimate(&passed.estimate(), want(tr), &format!("{what}, passing"));
-            for (acc, &cut) in before.iter().zip(&cuts) {
-                let p = Rgb::WHITE - optical_depth(&g, ray, cut).exp_neg();
-                let what = format!("{what}, P(scatter before {cut})");
-                assert_estimate(&acc.estimate(), want(p), &what);
-            }
+            assert_flights_follow_the_optical_depth(&g, &m, ray, *t_max, &cuts, lo < 0.0, &what);
         }
+    }
+}
+
+/// Clamped cells (a negative corner: null collisions) before dense ones
+/// (the exact walk), twice: the exact walk after a null-tracked span starts
+/// from a fresh target in the same units, so the flights still follow
+/// 1 - exp(-τ(t)) in the dense cells after each clamped stretch.
+#[test]
+fn free_flights_through_clamped_then_dense_cells_follow_the_optical_depth() {
+    let grid = row_grid(16, |x| {
+        if x < 4 || (10..12).contains(&x) {
+            -0.5
+        } else {
+            1.0
+        }
+    });
+    let (g, m) = medium(
+        grid,
+        5.0,
+        Rgb::WHITE,
+        GridEmission::None,
+        ExactVoxels::Always,
+    );
+    let (ray, t_max) = along_row();
+    // The row spans t in [1, 1.8]: cuts in the first and second dense stretch.
+    let cuts = [1.3, 1.45, 1.7, t_max];
+    assert_flights_follow_the_optical_depth(&g, &m, &ray, t_max, &cuts, true, "clamped, dense");
+}
+
+/// 20 000 free flights along `ray`: they pass with weight 1 and probability
+/// exp(-τ(t_max)), and scatter before each cut t with probability
+/// 1 - exp(-τ(t)), with weight α and σt equal to the lookup at the
+/// scattering point. Where `weights_vary` (cells tracked by null collisions)
+/// the weighted versions: E[β·pass] = T and E[β/α·scatter before t] = 1 - exp(-τ(t)).
+fn assert_flights_follow_the_optical_depth(
+    g: &GridMedium,
+    m: &Medium,
+    ray: &Ray,
+    t_max: f32,
+    cuts: &[f32],
+    weights_vary: bool,
+    what: &str,
+) {
+    let mut before: Vec<Accumulator> = cuts.iter().map(|_| Accumulator::default()).collect();
+    let mut passed = Accumulator::default();
+    for i in 0..20_000u64 {
+        let mut sampler = Sampler::new(9, 8, 7, i);
+        let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+        let f = sample_free_flight(
+            std::slice::from_ref(m),
+            ray,
+            t_max,
+            &mut beta,
+            &mut radiance,
+            &mut sampler,
+        );
+        let (t, weight) = match f {
+            FreeFlight::Scatter { t, properties, .. } => {
+                let sigma_t = (properties.sigma_a + properties.sigma_s).r;
+                let lookup = g.sigma_t(ray.at(t)).r;
+                assert!(
+                    (sigma_t - lookup).abs() <= 1e-4 * lookup.max(1.0),
+                    "{what}: σt {sigma_t} at the scattering point, lookup {lookup}"
+                );
+                if !weights_vary {
+                    assert!((beta.r - 0.7).abs() < 1e-6, "{what}: weight {beta:?}");
+                }
+                passed.add(Rgb::BLACK);
+                (t, beta / 0.7)
+            }
+            FreeFlight::Passed => {
+                if !weights_vary {
+                    assert_eq!(beta, Rgb::WHITE, "{what}");
+                }
+                passed.add(beta);
+                (f32::INFINITY, Rgb::BLACK)
+            }
+            FreeFlight::Absorbed => {
+                passed.add(Rgb::BLACK);
+                (f32::INFINITY, Rgb::BLACK)
+            }
+        };
+        for (acc, &cut) in before.iter_mut().zip(cuts) {
+            acc.add(if t < cut { weight } else { Rgb::BLACK });
+        }
+    }
+    let tr = optical_depth(g, ray, t_max).exp_neg();
+    assert_estimate(&passed.estimate(), want(tr), &format!("{what}, passing"));
+    for (acc, &cut) in before.iter().zip(cuts) {
+        let p = Rgb::WHITE - optical_depth(g, ray, cut).exp_neg();
+        let what = format!("{what}, P(scatter before {cut})");
+        assert_estimate(&acc.estimate(), want(p), &what);
     }
 }
 
