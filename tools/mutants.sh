@@ -60,7 +60,8 @@ fog)
     tests=(--lib --test height_fog --test airlight "${render[@]}") ;;
 blackbody)
     files=(-f src/medium/blackbody.rs)
-    tests=(--lib --test analytic_emission) ;;
+    # The temperature-grid renders against Planck's law live in media_grid_render.
+    tests=(--lib --test analytic_emission --test media_grid_render) ;;
 sampling)
     files=(-f 'src/sampling/**' -e src/sampling/chi2.rs -e 'src/sampling/chi2/**'
         -e src/sampling/quadrature.rs)
