@@ -105,3 +105,44 @@ impl Drop for Tally {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A render merges the counts of its rows: every field adds up.
+    #[test]
+    fn merge_adds_every_count() {
+        let mut a = TrackingStats {
+            collisions: 3,
+            null_sum: 1.25,
+            voxel_steps: 7,
+            capped_rays: 1,
+        };
+        a.merge(TrackingStats {
+            collisions: 10,
+            null_sum: 0.5,
+            voxel_steps: 20,
+            capped_rays: 2,
+        });
+        let want = TrackingStats {
+            collisions: 13,
+            null_sum: 1.75,
+            voxel_steps: 27,
+            capped_rays: 3,
+        };
+        assert_eq!(a, want);
+    }
+
+    /// The null fraction is the mean null probability, 0 before any collision.
+    #[test]
+    fn null_fraction_is_the_mean_null_probability() {
+        let stats = TrackingStats {
+            collisions: 4,
+            null_sum: 1.0,
+            ..NO_STATS
+        };
+        assert_eq!(stats.null_fraction(), 0.25);
+        assert_eq!(NO_STATS.null_fraction(), 0.0);
+    }
+}
