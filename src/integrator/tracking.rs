@@ -744,6 +744,23 @@ mod tests {
         assert_eq!(take_thread_stats().capped_rays, 0);
     }
 
+    /// The counts a render reports: against a majorant 4× the grey σt every
+    /// tentative collision is null with probability 1 − σt/σ̄ = ¾, so the
+    /// null fraction is ¾ exactly, whatever the number of collisions.
+    #[test]
+    fn the_null_fraction_is_the_mean_of_one_minus_sigma_t_over_the_majorant() {
+        let medium = unit_box(Rgb::splat(0.5), Rgb::splat(0.5));
+        let ray = across_unit_box();
+        let mut sampler = crate::sampling::Sampler::from_seed(5);
+        take_thread_stats();
+        for _ in 0..100 {
+            ratio_tracking_scaled_majorant(&medium, &ray, f32::INFINITY, 4.0, &mut sampler);
+        }
+        let stats = take_thread_stats();
+        assert!(stats.collisions > 100, "{stats:?}");
+        assert!((stats.null_fraction() - 0.75).abs() < 1e-6, "{stats:?}");
+    }
+
     /// Residual ratio tracking takes the control part in closed form and
     /// collides only against the residual majorant σ̄ − min(σc): none at all
     /// through a grey homogeneous medium (σc = σt = σ̄), and a Poisson number
