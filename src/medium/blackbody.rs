@@ -139,6 +139,25 @@ mod tests {
         assert!((y / s - 0.40745).abs() < 2e-3, "y = {}", y / s);
     }
 
+    /// Planck's law as written, B(λ) ∝ λ⁻⁵ / (e^(c₂/λT) − 1), against the
+    /// rearranged ratio B(λ)/B(830 nm), from 1000 K (Wien's regime) to
+    /// 10⁵ K (where the −1 matters at every visible wavelength).
+    #[test]
+    fn planck_relative_is_plancks_law_over_its_value_at_830_nm() {
+        let planck = |lambda: f64, t: f64| lambda.powi(-5) / ((C2 / (lambda * t)).exp() - 1.0);
+        for t in [1000.0, 2856.0, 6500.0, 20_000.0, 1e5] {
+            for nm in (360..=830).step_by(10) {
+                let lambda = nm as f64;
+                let want = planck(lambda, t) / planck(830.0, t);
+                let got = planck_relative(lambda, t);
+                assert!(
+                    (got - want).abs() <= 1e-12 * want,
+                    "{t} K, {nm} nm: {got} vs {want}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn chroma_has_unit_luminance_and_table_matches() {
         for t in [800.0, 1500.0, 3000.0, 6500.0, 12000.0] {
