@@ -158,6 +158,18 @@ mod tests {
         }
     }
 
+    /// T ≤ 0 and NaN emit nothing (a temperature grid's trilinear lookup can
+    /// go negative): neither the colour nor the table extrapolates below 0 K
+    /// (negative emission) or reads NaN as the hottest entry.
+    #[test]
+    fn non_positive_and_nan_temperatures_emit_nothing() {
+        let table = BlackbodyTable::new(4000.0);
+        for t in [-500.0f32, -1e-3, 0.0, f32::NAN] {
+            assert_eq!(blackbody_chroma(t as f64), Rgb::BLACK, "chroma at {t} K");
+            assert_eq!(table.lookup(t), Rgb::BLACK, "table at {t} K");
+        }
+    }
+
     #[test]
     fn chroma_has_unit_luminance_and_table_matches() {
         for t in [800.0, 1500.0, 3000.0, 6500.0, 12000.0] {
