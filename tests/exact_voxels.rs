@@ -214,17 +214,9 @@ fn free_flights_through_clamped_then_dense_cells_follow_the_optical_depth() {
             1.0
         }
     });
-    let (g, m) = medium(
-        grid,
-        5.0,
-        Rgb::WHITE,
-        GridEmission::None,
-        ExactVoxels::Always,
-    );
-    let (ray, t_max) = along_row();
     // The row spans t in [1, 1.8]: cuts in the first and second dense stretch.
-    let cuts = [1.3, 1.45, 1.7, t_max];
-    assert_flights_follow_the_optical_depth(&g, &m, &ray, t_max, &cuts, true, "clamped, dense");
+    let cuts = [1.3, 1.45, 1.7];
+    along_row_flights(grid, 5.0, ExactVoxels::Always, &cuts, "clamped, dense");
 }
 
 /// Free flights in `Auto` through thin cells (null collisions) then dense
@@ -233,19 +225,9 @@ fn free_flights_through_clamped_then_dense_cells_follow_the_optical_depth() {
 #[test]
 fn auto_free_flights_through_thin_then_dense_cells_follow_the_optical_depth() {
     let grid = row_grid(160, |x| if x < 156 { 0.002 } else { 1.0 });
-    let (g, m) = medium(
-        grid,
-        25.0,
-        Rgb::WHITE,
-        GridEmission::None,
-        ExactVoxels::Auto,
-    );
-    let (ray, t_max) = along_row();
     // Thin cells over t in [1, 8.8], dense ones to 9.
-    let cuts = [5.0, 8.85, 8.95, t_max];
-    take_thread_stats();
-    assert_flights_follow_the_optical_depth(&g, &m, &ray, t_max, &cuts, true, "thin, dense");
-    let stats = take_thread_stats();
+    let cuts = [5.0, 8.85, 8.95];
+    let stats = along_row_flights(grid, 25.0, ExactVoxels::Auto, &cuts, "thin, dense");
     assert!(
         stats.collisions > 0 && stats.collisions < 20_000 && stats.voxel_steps > 0,
         "{stats:?}"
@@ -594,6 +576,25 @@ fn along_row_samples(
     take_thread_stats();
     let est = transmittance(&m, &ray, t_max, ROW_SAMPLES);
     (est, expected, take_thread_stats())
+}
+
+/// Free flights along a [`row_grid`] at `density_scale` (grey σt), checked
+/// by [`assert_flights_follow_the_optical_depth`] at each of `cuts` and at
+/// the ray's end (weights may vary: some cells are null-tracked), with what
+/// they cost.
+fn along_row_flights(
+    grid: FloatGrid,
+    density_scale: f32,
+    exact: ExactVoxels,
+    cuts: &[f32],
+    what: &str,
+) -> brume::integrator::tracking::TrackingStats {
+    let (g, m) = medium(grid, density_scale, Rgb::WHITE, GridEmission::None, exact);
+    let (ray, t_max) = along_row();
+    let cuts: Vec<f32> = cuts.iter().copied().chain([t_max]).collect();
+    take_thread_stats();
+    assert_flights_follow_the_optical_depth(&g, &m, &ray, t_max, &cuts, true, what);
+    take_thread_stats()
 }
 
 /// Dense, thin, then dense again (`Auto`): the exact walk of the second
