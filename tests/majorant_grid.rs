@@ -257,6 +257,8 @@ fn a_brick_just_below_the_grid_corner_reaches_the_first_cells() {
 /// Dilation for motion blur zeroes the minimum of exactly the cells that reach
 /// past `inside`, then filters along each axis: over a constant density, the
 /// cells whose whole neighbourhood lies inside keep the constant as their minimum.
+/// `inside` cuts a different side along y and z, so that a cell's y and z,
+/// recovered from its linear index, cannot stand in for each other.
 #[test]
 fn dilation_zeroes_the_minimum_of_exactly_the_cells_outside() {
     // 4-voxel cells two voxels into the grid: every cell's support is constant
@@ -270,15 +272,19 @@ fn dilation_zeroes_the_minimum_of_exactly_the_cells_outside() {
     assert_eq!(m.dims(), IVec3::splat(3));
     let still = m.bounds(IVec3::ONE).0;
     assert!(still > 0.5 * c);
-    // the top layer (z = 2) reaches past `inside`; dilate by one cell along x only
-    let inside = (lo, Vec3::new(hi.x, hi.y, hi.z - cell));
+    // the top layer in y and the bottom layer in z reach past `inside`; dilate
+    // by one cell along x only
+    let inside = (
+        Vec3::new(lo.x, lo.y, lo.z + cell),
+        Vec3::new(hi.x, hi.y - cell, hi.z),
+    );
     let d = m.dilated(IVec3::new(1, 0, 0), inside);
     for x in 0..3 {
         for y in 0..3 {
             for z in 0..3 {
                 let cell = IVec3::new(x, y, z);
                 // x = 0 and 2 see a neighbour beyond the grid (density 0 for the minimum)
-                let want = if x == 1 && z < 2 { still } else { 0.0 };
+                let want = if x == 1 && y < 2 && z > 0 { still } else { 0.0 };
                 assert_eq!(d.bounds(cell).0, want, "cell {cell}");
                 assert!(d.bounds(cell).1 >= c, "cell {cell}");
             }
