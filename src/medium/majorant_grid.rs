@@ -349,6 +349,66 @@ mod tests {
         }
     }
 
+    /// The cells a segment of `o + t·d` over `[t0, t1]` crosses, checked: the
+    /// segments are contiguous from `t0`, each (but for slivers) holds its cell,
+    /// every cell lies in the grid; returns the cells.
+    fn walk_and_check(m: &MajorantGrid, o: Vec3, d: Vec3, t0: f32, t1: f32) -> Vec<IVec3> {
+        let (lo, _) = m.extent();
+        let mut dda = m.walk(o, d, t0, t1);
+        let (mut t, mut cells) = (t0, Vec::new());
+        while let Some((c, a, b)) = dda.next_cell(m.dims()) {
+            assert!((a - t).abs() < 1e-4 && b >= a, "[{a}, {b}] after {t}");
+            assert!(c.cmpge(IVec3::ZERO).all() && c.cmplt(m.dims()).all(), "{c}");
+            if b - a > 1e-3 {
+                let mid = (o + d * (0.5 * (a + b)) - lo) / m.cell_size();
+                assert_eq!(mid.floor().as_ivec3(), c, "[{a}, {b}] from {o} along {d}");
+            }
+            cells.push(c);
+            t = b;
+        }
+        assert!((t - t1).abs() < 1e-3, "ends at {t}, not {t1}");
+        cells
+    }
+
+    /// A grid away from the index origin, whose box is not a whole number of
+    /// cells: its extent is whole cells from the box's corner, its global bound
+    /// the largest cell bound, and walks that start anywhere in it (on its far
+    /// faces too, as a ray entering from above does) start in the cell of their
+    /// first point.
+    #[test]
+    fn walks_start_in_the_cell_of_their_first_point() {
+        let (lo, hi) = (Vec3::new(1.0, 2.0, 3.0), Vec3::new(20.0, 10.0, 30.0));
+        let m = MajorantGrid::build(&noisy_grid(), lo, hi, Vec3::splat(8.0));
+        assert_eq!(m.dims(), IVec3::new(3, 1, 4));
+        assert_eq!(m.extent(), (lo, Vec3::new(25.0, 10.0, 35.0)));
+        let mut largest = 0.0f32;
+        for (x, y, z) in (0..3).flat_map(|x| (0..4).map(move |z| (x, 0, z))) {
+            largest = largest.max(m.bounds(IVec3::new(x, y, z)).1);
+        }
+        assert!(largest > 2.0 && m.global_max() == largest);
+        let (_, top) = m.extent();
+        for i in 0..200u64 {
+            let u = Vec3::new(hash(6 * i), hash(6 * i + 1), hash(6 * i + 2));
+            let o = lo + (top - lo) * u;
+            let v = Vec3::new(hash(6 * i + 3), hash(6 * i + 4), hash(6 * i + 5));
+            let d = (2.0 * v - 1.0).normalize();
+            // where the ray leaves the box (slabs), from t = 0 inside it
+            let exit = (Vec3::select(d.cmpgt(Vec3::ZERO), top, lo) - o) / d;
+            let t1 = exit.min_element();
+            walk_and_check(&m, o, d, 0.0, t1);
+        }
+        // entering through the far faces, going down each axis in turn
+        for a in 0..3 {
+            let mut o = 0.5 * (lo + top);
+            o[a] = top[a];
+            let mut d = Vec3::ZERO;
+            d[a] = -1.0;
+            let cells = walk_and_check(&m, o, d, 0.0, top[a] - lo[a]);
+            assert_eq!(cells[0][a], m.dims()[a] - 1, "axis {a}");
+            assert_eq!(cells.len() as i32, m.dims()[a], "axis {a}");
+        }
+    }
+
     /// DDA segments are contiguous, cover the interval and hold their cell.
     #[test]
     fn dda_segments_tile_the_ray() {
