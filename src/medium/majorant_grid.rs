@@ -351,8 +351,8 @@ mod tests {
 
     /// The cells a segment of `o + t·d` over `[t0, t1]` crosses, checked: the
     /// segments are contiguous from `t0`, each (but for slivers) holds its cell,
-    /// every cell lies in the grid; returns the cells.
-    fn walk_and_check(m: &MajorantGrid, o: Vec3, d: Vec3, t0: f32, t1: f32) -> Vec<IVec3> {
+    /// every cell lies in the grid; returns the cells and where the last ends.
+    fn walk_and_check(m: &MajorantGrid, o: Vec3, d: Vec3, t0: f32, t1: f32) -> (Vec<IVec3>, f32) {
         let (lo, _) = m.extent();
         let mut dda = m.walk(o, d, t0, t1);
         let (mut t, mut cells) = (t0, Vec::new());
@@ -366,15 +366,14 @@ mod tests {
             cells.push(c);
             t = b;
         }
-        assert!((t - t1).abs() < 1e-3, "ends at {t}, not {t1}");
-        cells
+        (cells, t)
     }
 
     /// A grid away from the index origin, whose box is not a whole number of
     /// cells: its extent is whole cells from the box's corner, its global bound
     /// the largest cell bound, and walks that start anywhere in it (on its far
     /// faces too, as a ray entering from above does) start in the cell of their
-    /// first point.
+    /// first point and end where they leave the grid.
     #[test]
     fn walks_start_in_the_cell_of_their_first_point() {
         let (lo, hi) = (Vec3::new(1.0, 2.0, 3.0), Vec3::new(20.0, 10.0, 30.0));
@@ -395,17 +394,20 @@ mod tests {
             // where the ray leaves the box (slabs), from t = 0 inside it
             let exit = (Vec3::select(d.cmpgt(Vec3::ZERO), top, lo) - o) / d;
             let t1 = exit.min_element();
-            walk_and_check(&m, o, d, 0.0, t1);
+            let (_, end) = walk_and_check(&m, o, d, 0.0, t1);
+            assert!((end - t1).abs() < 1e-3, "ends at {end}, not {t1}");
         }
-        // entering through the far faces, going down each axis in turn
+        // entering through the far faces, going down each axis in turn; asked to
+        // go on past the grid, a walk stops where it leaves the grid
         for a in 0..3 {
             let mut o = 0.5 * (lo + top);
             o[a] = top[a];
             let mut d = Vec3::ZERO;
             d[a] = -1.0;
-            let cells = walk_and_check(&m, o, d, 0.0, top[a] - lo[a]);
+            let (cells, end) = walk_and_check(&m, o, d, 0.0, top[a] - lo[a] + 20.0);
             assert_eq!(cells[0][a], m.dims()[a] - 1, "axis {a}");
             assert_eq!(cells.len() as i32, m.dims()[a], "axis {a}");
+            assert_eq!(end, top[a] - lo[a], "axis {a}");
         }
     }
 
