@@ -115,3 +115,41 @@ fn p_values_of_a_correct_sampler_are_uniform() {
     let low = p.iter().filter(|&&x| x < 0.1).count() as f64 / runs as f64;
     assert!((low - 0.1).abs() < k * 0.0213, "fraction below 0.1 = {low}");
 }
+
+#[test]
+fn a_test_without_degrees_of_freedom_never_passes() {
+    // Every sample in one pooled cell: nothing was tested, whatever the p-value says.
+    let result = Chi2Result {
+        statistic: 0.0,
+        dof: 0,
+        p_value: 1.0,
+        sample_count: 1000,
+        invalid_count: 0,
+        histogram: String::new(),
+    };
+    assert!(!result.passes(0.01, 1));
+    assert!(Chi2Result { dof: 1, ..result }.passes(0.01, 1));
+}
+
+#[test]
+fn a_failure_message_shows_the_statistic_and_the_histogram() {
+    let result = IntervalChi2::new(0.0, 1.0, 1_000, 4).run(Some, |_| 1.0);
+    let message = result.to_string();
+    assert!(message.starts_with("chi2 = "), "{message}");
+    assert!(
+        message.contains(&format!("dof = {}", result.dof)),
+        "{message}"
+    );
+    assert!(message.ends_with(&result.histogram), "{message}");
+}
+
+#[test]
+fn directions_that_are_not_unit_vectors_are_invalid() {
+    // Right directions, wrong length: a sampler that forgot to normalise.
+    let result = SphereChi2::new(2_000, 6).run(
+        |u| Some(2.0 * warp::square_to_cosine_hemisphere(u)),
+        warp::cosine_hemisphere_pdf,
+    );
+    assert_eq!(result.invalid_count, result.sample_count, "{result}");
+    assert!(!result.passes(0.01, 1));
+}
