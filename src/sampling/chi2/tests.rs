@@ -153,3 +153,23 @@ fn directions_that_are_not_unit_vectors_are_invalid() {
     assert_eq!(result.invalid_count, result.sample_count, "{result}");
     assert!(!result.passes(0.01, 1));
 }
+
+#[test]
+fn samples_outside_the_interval_are_invalid() {
+    let test = IntervalChi2::new(1.0, 2.0, 2_000, 8);
+    let result = test.run(|u| Some(if u < 0.5 { 0.5 * u } else { 2.0 + u }), |_| 1.0);
+    assert_eq!(result.invalid_count, result.sample_count, "{result}");
+    assert!(!result.passes(0.01, 1));
+}
+
+#[test]
+fn the_interval_histogram_labels_each_bin_with_its_range() {
+    // 40 bins over [1, 2]: bin 1 is [1.025, 1.05).
+    let result = IntervalChi2::new(1.0, 2.0, 1_000, 4).run(|u| Some(1.0 + u), |_| 1.0);
+    let second = result.histogram.lines().nth(2).unwrap_or_default();
+    assert!(
+        second.starts_with("[1.0250, 1.0500): "),
+        "{}",
+        result.histogram
+    );
+}
