@@ -173,3 +173,46 @@ fn the_interval_histogram_labels_each_bin_with_its_range() {
         result.histogram
     );
 }
+
+#[test]
+fn the_sphere_histogram_shows_every_bin_observed_and_expected() {
+    let test = SphereChi2::new(1_000, 2);
+    let result = test.run(
+        |u| Some(warp::square_to_uniform_sphere(u)),
+        |_| 0.25 / PI as f32,
+    );
+    let lines: Vec<&str> = result.histogram.lines().collect();
+    // a header, the observed rows, a header, the expected rows
+    assert_eq!(lines.len(), 2 * test.cos_theta_bins + 2, "{result}");
+    let expected_rows = &lines[test.cos_theta_bins + 2..];
+    for row in expected_rows {
+        let values: Vec<f64> = row.split_whitespace().map(|v| v.parse().unwrap()).collect();
+        assert_eq!(values.len(), test.phi_bins, "{result}");
+        // 1000 samples over the bins, uniform: about 1000 / bins each
+        let per_bin = 1_000.0 / (test.cos_theta_bins * test.phi_bins) as f64;
+        assert!(
+            values.iter().all(|&v| (v - per_bin).abs() <= 1.0),
+            "{result}"
+        );
+    }
+}
+
+#[test]
+fn a_few_samples_where_the_pdf_is_zero_reject_whatever_the_statistic() {
+    // 40 bins of width 1 over [0, 40]; the pdf is 0 on [20, 40]. A handful of
+    // samples (u < 2·10⁻⁴) land there; the other bins alone would pass.
+    let test = IntervalChi2::new(0.0, 40.0, 20_000, 12);
+    let result = test.run(
+        |u| Some(if u < 2e-4 { 30.0 } else { 20.0 * u }),
+        |x| if x < 20.0 { 0.05 } else { 0.0 },
+    );
+    assert_eq!(result.invalid_count, 0, "{result}");
+    assert_eq!(result.p_value, 0.0, "{result}");
+    assert!(
+        result.histogram.contains("samples fell where the pdf is 0"),
+        "{result}"
+    );
+    // Without them the same sampler passes: the rejection is theirs alone.
+    let clean = test.run(|u| Some(20.0 * u), |x| if x < 20.0 { 0.05 } else { 0.0 });
+    assert!(clean.passes(0.01, 1), "{clean}");
+}
