@@ -216,3 +216,27 @@ fn a_few_samples_where_the_pdf_is_zero_reject_whatever_the_statistic() {
     let clean = test.run(|u| Some(20.0 * u), |x| if x < 20.0 { 0.05 } else { 0.0 });
     assert!(clean.passes(0.01, 1), "{clean}");
 }
+
+#[test]
+fn sparse_cells_are_pooled_until_the_pool_expects_five() {
+    // Sorted by expectation: 2 and 2 are pooled, and the pool (4) still takes
+    // the 10; the 20 stands alone. Pool: observed 4 + 3 + 9 = 16 against 14.
+    let result = finish(
+        &[9.0, 4.0, 25.0, 3.0],
+        &[10.0, 2.0, 20.0, 2.0],
+        41,
+        0,
+        String::new(),
+    );
+    let want = 2.0 * 2.0 / 14.0 + 5.0 * 5.0 / 20.0;
+    assert!((result.statistic - want).abs() < 1e-12, "{result}");
+    assert_eq!(result.dof, 1, "{result}");
+    assert_eq!(result.p_value, chi2_survival(want, 1));
+    // Nothing sparse: one term per cell.
+    let plain = finish(&[9.0, 26.0], &[10.0, 25.0], 35, 0, String::new());
+    assert!(
+        (plain.statistic - (0.1 + 1.0 / 25.0)).abs() < 1e-12,
+        "{plain}"
+    );
+    assert_eq!(plain.dof, 1, "{plain}");
+}
