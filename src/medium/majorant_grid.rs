@@ -381,8 +381,10 @@ mod tests {
         assert_eq!(m.dims(), IVec3::new(3, 1, 4));
         assert_eq!(m.extent(), (lo, Vec3::new(25.0, 10.0, 35.0)));
         let mut largest = 0.0f32;
-        for (x, y, z) in (0..3).flat_map(|x| (0..4).map(move |z| (x, 0, z))) {
-            largest = largest.max(m.bounds(IVec3::new(x, y, z)).1);
+        for x in 0..3 {
+            for z in 0..4 {
+                largest = largest.max(m.bounds(IVec3::new(x, 0, z)).1);
+            }
         }
         assert!(largest > 2.0 && m.global_max() == largest);
         let (_, top) = m.extent();
@@ -423,16 +425,7 @@ mod tests {
         let o = Vec3::new(-3.0, 1.5, 2.5);
         let d = Vec3::new(0.9, 0.35, 0.2);
         let (t0, t1) = (3.5, 45.0);
-        let mut dda = m.walk(o, d, t0, t1);
-        let mut t = t0;
-        while let Some((c, a, b)) = dda.next_cell(m.dims()) {
-            assert!((a - t).abs() < 1e-4 && b >= a);
-            let mid = (o + d * (0.5 * (a + b)) - Vec3::ZERO) / 8.0;
-            if b - a > 1e-3 {
-                assert_eq!(mid.floor().as_ivec3(), c);
-            }
-            t = b;
-        }
+        let (_, t) = walk_and_check(&m, o, d, t0, t1);
         assert!((t - t1).abs() < 1e-3 || t < t1 && (o + d * t).max_element() >= 40.0 - 1e-3);
     }
 }

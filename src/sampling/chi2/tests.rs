@@ -186,12 +186,11 @@ fn the_sphere_histogram_shows_every_bin_observed_and_expected() {
     let lines: Vec<&str> = result.histogram.lines().collect();
     // a header, the observed rows, a header, the expected rows
     assert_eq!(lines.len(), 2 * test.cos_theta_bins + 2, "{result}");
-    let expected_rows = &lines[test.cos_theta_bins + 2..];
-    for row in expected_rows {
+    // 1000 samples over the bins, uniform: about 1000 / bins each
+    let per_bin = 1_000.0 / (test.cos_theta_bins * test.phi_bins) as f64;
+    for row in &lines[test.cos_theta_bins + 2..] {
         let values: Vec<f64> = row.split_whitespace().map(|v| v.parse().unwrap()).collect();
         assert_eq!(values.len(), test.phi_bins, "{result}");
-        // 1000 samples over the bins, uniform: about 1000 / bins each
-        let per_bin = 1_000.0 / (test.cos_theta_bins * test.phi_bins) as f64;
         assert!(
             values.iter().all(|&v| (v - per_bin).abs() <= 1.0),
             "{result}"
