@@ -62,9 +62,7 @@ pub fn gauss_legendre(f: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize) -> 
 /// noise would subdivide to the depth limit everywhere.
 pub fn adaptive_simpson(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     let m = 0.5 * (a + b);
-    let (fa, fm, fb) = (f(a), f(m), f(b));
-    let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
-    simpson_step(f, [a, m, b], [fa, fm, fb], whole, tol, 0)
+    simpson_step(f, [a, m, b], [f(a), f(m), f(b)], tol, 0)
 }
 
 const MIN_DEPTH: u32 = 4;
@@ -75,10 +73,11 @@ fn simpson_step(
     f: &dyn Fn(f64) -> f64,
     [a, m, b]: [f64; 3],
     [fa, fm, fb]: [f64; 3],
-    whole: f64,
     tol: f64,
     depth: u32,
 ) -> f64 {
+    // The same expression as the parent's `left` or `right`, so the same bits.
+    let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
     let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
     let (flm, frm) = (f(lm), f(rm));
     let left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
@@ -89,8 +88,8 @@ fn simpson_step(
     if depth >= MAX_DEPTH || (depth >= MIN_DEPTH && converged) {
         return left + right + delta / 15.0;
     }
-    simpson_step(f, [a, lm, m], [fa, flm, fm], left, 0.5 * tol, depth + 1)
-        + simpson_step(f, [m, rm, b], [fm, frm, fb], right, 0.5 * tol, depth + 1)
+    simpson_step(f, [a, lm, m], [fa, flm, fm], 0.5 * tol, depth + 1)
+        + simpson_step(f, [m, rm, b], [fm, frm, fb], 0.5 * tol, depth + 1)
 }
 
 #[cfg(test)]
@@ -104,6 +103,62 @@ mod tests {
         // Degree 15 is integrated exactly by one 8-point panel: ∫_0^1 x^15 = 1/16.
         let one_panel = gauss_legendre(|x| x.powi(15), 0.0, 1.0, 1);
         assert!((one_panel - 1.0 / 16.0).abs() < 1e-14);
+    }
+
+    #[test]
+    fn each_rule_is_exact_to_degree_2n_minus_1_and_no_further() {
+        for n in 1..=12 {
+            let rule = gauss_legendre_rule(n);
+            // ∫_{−1}^{1} x^k dx = 2/(k+1) for even k, 0 for odd k.
+            let moment = |k: i32| rule.iter().map(|&(x, w)| w * x.powi(k)).sum::<f64>();
+            let exact = |k: i32| {
+                if k % 2 == 0 {
+                    2.0 / (k + 1) as f64
+                } else {
+                    0.0
+                }
+            };
+            for k in 0..2 * n as i32 {
+                assert!((moment(k) - exact(k)).abs() < 1e-13, "n = {n}, x^{k}");
+            }
+            // The n-point rule misses x^2n by 2^(2n+1) (n!)^4 / ((2n+1) ((2n)!)^2), ≥ 1.8e−7 up to n = 12.
+            let k = 2 * n as i32;
+            assert!(
+                (moment(k) - exact(k)).abs() > 1e-10,
+                "n = {n} exact for x^{k}"
+            );
+        }
+    }
+
+    #[test]
+    fn gauss_legendre_panels_tile_an_interval_away_from_zero() {
+        let e = std::f64::consts::E;
+        for panels in [1, 3, 8] {
+            let integral = gauss_legendre(f64::exp, 1.0, 3.0, panels);
+            assert!(
+                (integral / (e.powi(3) - e) - 1.0).abs() < 1e-12,
+                "{panels} panels"
+            );
+        }
+        // Degree 15 on each of 3 panels of [−2, 1]: ∫ x^15 = (1 − 2^16) / 16.
+        let integral = gauss_legendre(|x| x.powi(15), -2.0, 1.0, 3);
+        assert!((integral / ((1.0 - 65536.0) / 16.0) - 1.0).abs() < 1e-13);
+    }
+
+    #[test]
+    fn adaptive_simpson_is_exact_for_cubics_at_its_minimum_depth() {
+        let evaluations = std::cell::Cell::new(0);
+        let cubic = |x: f64| {
+            // Densities are often undefined outside their interval.
+            assert!((2.0..=5.0).contains(&x), "evaluated at {x}, outside [2, 5]");
+            evaluations.set(evaluations.get() + 1);
+            1.0 - 2.0 * x + 3.0 * x * x * x
+        };
+        // ∫_2^5 = [x − x² + ¾x⁴]_2^5 = 448.75 − 10.
+        assert!((adaptive_simpson(&cubic, 2.0, 5.0, 1e-10) - 438.75).abs() < 1e-10);
+        // Simpson's rule is exact for cubics, so every piece stops at depth 4:
+        // 3 evaluations, then 2 in each of the 1 + 2 + 4 + 8 + 16 steps.
+        assert_eq!(evaluations.get(), 3 + 2 * 31);
     }
 
     #[test]
