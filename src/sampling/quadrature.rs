@@ -163,6 +163,35 @@ mod tests {
     }
 
     #[test]
+    fn adaptive_simpson_adds_the_richardson_correction() {
+        // Simpson's rule plus delta/15 is Boole's rule, exact for quintics; with
+        // a loose tolerance every piece stops at depth 4, where Simpson alone
+        // is off by about 2e−9 of the value.
+        let quintic = |x: f64| x.powi(5);
+        let exact = (5f64.powi(6) - 3f64.powi(6)) / 6.0;
+        let integral = adaptive_simpson(&quintic, 3.0, 5.0, 1e-3);
+        assert!(
+            (integral / exact - 1.0).abs() < 1e-13,
+            "{integral} against {exact}"
+        );
+    }
+
+    #[test]
+    fn adaptive_simpson_stops_at_the_relative_floor_on_noisy_integrands() {
+        let evaluations = std::cell::Cell::new(0);
+        // Noise of ±0.5e−8 (a hash of x), like the rounding of an integrand computed in f32,
+        // over an interval short enough that each piece's value is far below 1.
+        let noisy = |x: f64| {
+            evaluations.set(evaluations.get() + 1);
+            let hash = x.to_bits().wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 11;
+            1.0 + 1e-8 * (hash as f64 / (1u64 << 53) as f64 - 0.5)
+        };
+        // No absolute tolerance: only the floor of 1e−7 of each piece's value stops it.
+        assert!((adaptive_simpson(&noisy, 0.0, 0.01, 0.0) - 0.01).abs() < 1e-9);
+        assert_eq!(evaluations.get(), 3 + 2 * 31);
+    }
+
+    #[test]
     fn adaptive_simpson_handles_peaks_and_jumps() {
         let peak = |x: f64| 1e-3 / (std::f64::consts::PI * (1e-6 + (x - 0.3) * (x - 0.3)));
         // ∫ of the Cauchy density over [0, 1] = (atan(0.7/1e-3) + atan(0.3/1e-3)) / π.
