@@ -76,7 +76,8 @@ fn simpson_step(
     tol: f64,
     depth: u32,
 ) -> f64 {
-    // The same expression as the parent's `left` or `right`, so the same bits.
+    // Recomputed, not passed down: it is the parent's `left` or `right`, the same
+    // expression on the same values, so the same bits.
     let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
     let (lm, rm) = (0.5 * (a + m), 0.5 * (m + b));
     let (flm, frm) = (f(lm), f(rm));
