@@ -19,6 +19,20 @@ use std::fmt;
 /// Name of the beauty layer (its channels are written as plain R, G, B).
 pub const BEAUTY: &str = "";
 
+/// One light-tracing contribution landing on display pixel (`x`, `y`): radiance
+/// summed into the film's splat layer, divided like the beauty by the samples
+/// per pixel of the pass (not by the pixel's own count). Integrators that trace
+/// from the lights (bidirectional, photon, Metropolis) hand these to the film.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Splat {
+    /// Display column.
+    pub x: u32,
+    /// Display row (0 at the top).
+    pub y: u32,
+    /// Radiance, already weighted (MIS, pdfs, importance).
+    pub radiance: Rgb,
+}
+
 /// A half-open rectangle of pixels, x0..x1 by y0..y1, row 0 at the top.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Rect {
