@@ -8,11 +8,11 @@
 mod analytic_support;
 
 use analytic_support::*;
-use brume::color::Rgb;
 use brume::integrator::tracking::{
     medium_transmittance, ratio_tracking_scaled_majorant, sample_free_flight, FreeFlight, Tracker,
     TransmittanceEstimator,
 };
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Bounds3, Quat, Ray, Vec3};
 use brume::medium::{HomogeneousMedium, Medium, PhaseFunction, Region};
 

@@ -198,7 +198,7 @@ fn aov_layers_round_trip_and_leave_the_beauty_unchanged() {
             ])
             .assert()
             .success();
-        brume::image_io::read_exr_channels(&dir.path().join(out)).unwrap()
+        brume::film::image_io::read_exr_channels(&dir.path().join(out)).unwrap()
     };
     let (w, h, plain) = render("none", "plain.exr");
     let (w2, h2, with) = render("alpha,depth,normal,albedo,transmittance", "aovs.exr");

@@ -174,7 +174,7 @@ fn a_good_scene_renders_and_writes_both_files() {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let (w, h, pixels) = brume::image_io::read_exr(&dir.path().join("tiny.exr")).unwrap();
+    let (w, h, pixels) = brume::film::image_io::read_exr(&dir.path().join("tiny.exr")).unwrap();
     assert_eq!((w, h), (8, 8));
     assert!(pixels.iter().any(|p| p.max_channel() > 0.0));
     assert!(dir.path().join("tiny.png").exists());

@@ -32,7 +32,7 @@ fn scene_text(camera_extra: &str) -> String {
     )
 }
 
-fn pixels(camera_extra: &str) -> Vec<brume::color::Rgb> {
+fn pixels(camera_extra: &str) -> Vec<brume::math::color::Rgb> {
     let scene = common::scene_from_str(&scene_text(camera_extra));
     let options = RenderOptions {
         spp: 4,

@@ -2,7 +2,7 @@
 //! the denoised layer is closer to a converged reference than the noisy beauty.
 #![cfg(feature = "denoise")]
 
-use brume::image_io::read_exr_channels;
+use brume::film::image_io::read_exr_channels;
 
 /// A lit sphere on a plane, 64×48 pixels.
 const SCENE: &str = r#"

@@ -5,9 +5,9 @@ mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
 use analytic_support::{assert_estimate, estimate_li};
-use brume::color::Rgb;
-use brume::envmap::EnvMap;
-use brume::image_io::{write_exr, Image};
+use brume::film::image_io::{write_exr, Image};
+use brume::light::envmap::EnvMap;
+use brume::math::color::Rgb;
 use brume::math::{Quat, Ray, Vec3};
 use brume::sampling::chi2::{chi2_survival, sidak_alpha};
 use brume::sampling::quadrature::gauss_legendre;

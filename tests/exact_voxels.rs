@@ -7,12 +7,12 @@
 
 mod common;
 
-use brume::color::Rgb;
 use brume::integrator::tracking::{
     medium_transmittance, sample_free_flight, take_thread_stats, FreeFlight,
     MAX_TENTATIVE_COLLISIONS,
 };
 use brume::integrator::TransmittanceEstimator;
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Quat, Ray, Vec3};
 use brume::medium::{
     ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,

@@ -93,7 +93,7 @@ fn a_sequence_writes_one_image_per_frame_and_resumes() {
 }
 
 fn pixels(path: &Path) -> Vec<[u32; 3]> {
-    let (_, _, px) = brume::image_io::read_exr(path).unwrap();
+    let (_, _, px) = brume::film::image_io::read_exr(path).unwrap();
     px.iter()
         .map(|c| [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()])
         .collect()

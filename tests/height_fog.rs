@@ -9,11 +9,11 @@
 
 mod common;
 
-use brume::color::Rgb;
 use brume::error::Error;
 use brume::integrator::tracking::{
     medium_transmittance, sample_free_flight, FreeFlight, TransmittanceEstimator,
 };
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Ray, Vec3};
 use brume::medium::{HeightFog, HomogeneousMedium, Medium, PhaseFunction, Region};
 use brume::sampling::chi2::IntervalChi2;

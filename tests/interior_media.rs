@@ -6,8 +6,8 @@
 
 mod common;
 
-use brume::color::Rgb;
 use brume::integrator::Scene;
+use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
 use brume::sampling::Sampler;
 use common::*;

@@ -137,7 +137,7 @@ fn display_streams_every_pass_to_a_tev_server() {
         assert_eq!((*kind, *y, *h), (6, 0, 16));
     }
     // The last pass is the final image, bit for bit.
-    let (w, h, pixels) = brume::image_io::read_exr(&exr).unwrap();
+    let (w, h, pixels) = brume::film::image_io::read_exr(&exr).unwrap();
     assert_eq!((w, h), (24, 16));
     let last = &updates[2].1 .2;
     let expected: Vec<f32> = pixels.iter().flat_map(|c| [c.r, c.g, c.b]).collect();

@@ -5,8 +5,8 @@ mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
 use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
-use brume::color::Rgb;
 use brume::material::{ConductorFresnel, Material, Shading};
+use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
 use brume::sampling::chi2::{Chi2Result, SphereChi2};
 use brume::sampling::quadrature::gauss_legendre;

@@ -6,9 +6,9 @@
 
 mod common;
 
-use brume::color::Rgb;
 use brume::integrator::tracking::{medium_transmittance, sample_free_flight, FreeFlight};
 use brume::integrator::TransmittanceEstimator;
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Bounds3, Quat, Ray, Vec3};
 use brume::medium::{
     GridEmission, GridMedium, GridMediumParams, HomogeneousMedium, MajorantMode, Medium,

@@ -12,8 +12,8 @@ mod analytic_support;
 use std::sync::Arc;
 
 use analytic_support::{assert_estimate, estimate};
-use brume::color::Rgb;
 use brume::integrator::tracking::{medium_transmittance, TransmittanceEstimator};
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Ray, Vec3};
 use brume::medium::{
     GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium, PhaseFunction,

@@ -18,8 +18,8 @@ use std::sync::Arc;
 
 use analytic_support::common::scene_from_str;
 use analytic_support::{assert_estimate, assert_same, estimate};
-use brume::color::Rgb;
 use brume::integrator::tracking::{medium_transmittance, TransmittanceEstimator};
+use brume::math::color::Rgb;
 use brume::math::keyframes::{Key, Keyframes};
 use brume::math::{Affine3A, Quat, Ray, Vec3};
 use brume::medium::{

@@ -125,7 +125,7 @@ fn interrupted_render(signal: &str, extra: &[&str], pass: i32) -> (tempfile::Tem
     );
     assert!(dir.path().join("slow.png").exists());
     assert!(temporaries(dir.path()).is_empty());
-    let (_, _, pixels) = brume::image_io::read_exr(&exr).unwrap();
+    let (_, _, pixels) = brume::film::image_io::read_exr(&exr).unwrap();
     assert!(pixels.iter().all(|p| p.is_finite()));
     assert!(pixels.iter().any(|p| p.max_channel() > 0.0));
     (dir, spp)
@@ -144,8 +144,8 @@ fn sigint_saves_exactly_the_finished_passes() {
         .unwrap();
     assert!(output.status.success());
     assert_eq!(brume_attributes(&dir.path().join("full.exr")), (spp, 1));
-    let (_, _, partial) = brume::image_io::read_exr(&dir.path().join("slow.exr")).unwrap();
-    let (_, _, full) = brume::image_io::read_exr(&dir.path().join("full.exr")).unwrap();
+    let (_, _, partial) = brume::film::image_io::read_exr(&dir.path().join("slow.exr")).unwrap();
+    let (_, _, full) = brume::film::image_io::read_exr(&dir.path().join("full.exr")).unwrap();
     assert!(
         partial == full,
         "the interrupted image differs from a {spp} spp render"

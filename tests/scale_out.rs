@@ -3,7 +3,7 @@
 //! `brume merge` into the single render; every refusal exits 2 with one line.
 //!
 //! The bound for sample ranges (stated in README "Rendering on many machines"
-//! and src/merge.rs): the merged f64 sums differ from the single render's by
+//! and src/film/merge.rs): the merged f64 sums differ from the single render's by
 //! f64 rounding only, so each f32 pixel is equal or 1 ulp apart.
 
 #[path = "scale_out_support/mod.rs"]
@@ -89,8 +89,8 @@ fn four_crops_merge_bit_identical_to_the_full_render() {
     let merged = merge(dir.path(), &pieces);
     assert_bit_identical(&film(&full), &film(&merged));
     // Viewers see the same pixels too.
-    let (_, _, a) = brume::image_io::read_exr(&full).unwrap();
-    let (_, _, b) = brume::image_io::read_exr(&merged).unwrap();
+    let (_, _, a) = brume::film::image_io::read_exr(&full).unwrap();
+    let (_, _, b) = brume::film::image_io::read_exr(&merged).unwrap();
     assert!(a
         .iter()
         .zip(&b)
@@ -273,7 +273,7 @@ fn merge_refuses_overlap_other_scenes_seeds_and_missing_pieces() {
     assert!(damaged.contains("junk.exr: cannot read EXR"), "{damaged}");
 
     let plain = dir.path().join("plain.exr");
-    brume::image_io::write_exr(&plain, &film(&a).beauty_image()).unwrap();
+    brume::film::image_io::write_exr(&plain, &film(&a).beauty_image()).unwrap();
     let not_film = refusal(dir.path(), &[a, plain]);
     assert!(
         not_film.contains("plain.exr: not a brume film"),
@@ -286,14 +286,14 @@ fn the_scene_hash_covers_the_volume_bytes_but_not_the_path() {
     let dir = tempfile::tempdir().unwrap();
     let scene = plume_scene(dir.path(), 0.9);
     let settings = brume::scene::load(&scene).unwrap().settings;
-    let hash = || brume::scene_hash::scene_hash(&scene, &settings).unwrap();
+    let hash = || brume::render::provenance::scene_hash(&scene, &settings).unwrap();
     let before = hash();
     // The same files elsewhere: the same hash (farm machines mount scenes anywhere).
     let moved = dir.path().join("moved");
     std::fs::create_dir(&moved).unwrap();
     let moved_scene = plume_scene(&moved, 0.9);
     assert_eq!(
-        brume::scene_hash::scene_hash(&moved_scene, &settings).unwrap(),
+        brume::render::provenance::scene_hash(&moved_scene, &settings).unwrap(),
         before
     );
     // One byte of the volume changed: another hash.

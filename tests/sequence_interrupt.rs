@@ -6,7 +6,7 @@
 //! byte and renders the rest.
 
 use assert_cmd::cargo::CommandCargoExt;
-use brume::image_io::exr_is_complete;
+use brume::film::image_io::exr_is_complete;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

@@ -19,7 +19,7 @@
 
 mod common;
 
-use brume::color::Rgb;
+use brume::math::color::Rgb;
 use common::{assert_pixels_equal, estimate_pixels, Estimate};
 use std::path::{Path, PathBuf};
 
@@ -208,14 +208,14 @@ fn exr_emission_is_read_linear_and_png_can_be_declared_linear() {
             Rgb::new(t[0] as f32, t[1] as f32, t[2] as f32)
         })
         .collect();
-    let image = brume::image_io::Image {
+    let image = brume::film::image_io::Image {
         width: 4,
         height: 2,
         pixels,
         spp: 1,
         partial: false,
     };
-    brume::image_io::write_exr(&dir.path().join("tex.exr"), &image).unwrap();
+    brume::film::image_io::write_exr(&dir.path().join("tex.exr"), &image).unwrap();
     std::fs::copy(texture_png(), dir.path().join("tex.png")).unwrap();
     let want = expected(|u, v| bilinear(u, v, true, false));
     for emission in [

@@ -28,9 +28,9 @@ mod plot;
 use measure::{csv, measure, table};
 pub use measure::{fit_sigma_t, koschmieder};
 
-use crate::color::Rgb;
 use crate::error::{Error, Result};
-use crate::image_io;
+use crate::film::image_io;
+use crate::math::color::Rgb;
 use crate::math::Vec2;
 use crate::render::{render, RenderOptions};
 use std::fmt::Write as _;

@@ -232,7 +232,7 @@ mod tests {
     use super::*;
 
     use crate::airlight::TargetRow;
-    use crate::color::Rgb;
+    use crate::math::color::Rgb;
 
     #[test]
     fn the_bundled_font_parses() {

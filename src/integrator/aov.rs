@@ -23,8 +23,8 @@
 
 use super::tracking::{sample_free_flight, FreeFlight};
 use super::Scene;
-use crate::color::Rgb;
 use crate::material::Material;
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 use crate::sampling::{PixelStreams, Sampler};
 

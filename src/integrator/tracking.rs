@@ -30,7 +30,7 @@
 //!   render reports how many rays hit the cap, as it reports non-finite
 //!   samples. No scene of the test suite comes near it.
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::Ray;
 use crate::medium::{HomogeneousMedium, MajorantIter, MajorantSegment, Medium, MediumProperties};
 use crate::sampling::Sampler;

@@ -26,7 +26,7 @@ use super::majorant_grid::{Dda, MajorantGrid};
 use super::motion::{self, GridMotion, MotionLookup};
 use super::voxel::VoxelWalk;
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Affine3A, Bounds3, Ray, Vec3};
 use crate::volume::{FloatGrid, GridTransform};
 

@@ -2,8 +2,8 @@
 
 use super::description::Color;
 use super::validate::Check;
-use crate::envmap::EnvMap;
 use crate::error::Result;
+use crate::light::envmap::EnvMap;
 use crate::math::Quat;
 use std::path::Path;
 
@@ -22,7 +22,7 @@ pub(super) fn build(
             format!("environment map {} not found", path.display()),
         ));
     }
-    let (width, height, texels) = crate::image_io::read_exr(path).map_err(|e| {
+    let (width, height, texels) = crate::film::image_io::read_exr(path).map_err(|e| {
         check.error(
             &file_field,
             format!("cannot read environment map {}: {e}", path.display()),

@@ -15,15 +15,15 @@ mod validate;
 pub mod vdb;
 
 use crate::camera::{Camera, FovAxis};
-use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light, LightPick};
+use crate::material::texture::Texture;
 use crate::material::Material;
+use crate::math::color::Rgb;
 use crate::sampling::SamplerKind;
-use crate::texture::Texture;
 use description::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
 use std::path::{Path, PathBuf};
 use validate::Check;

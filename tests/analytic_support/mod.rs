@@ -10,9 +10,9 @@ pub use common::{
     assert_estimate, assert_same, assert_within, k_sigma, scene_from_str, Accumulator, Estimate,
 };
 
-use brume::color::Rgb;
 use brume::integrator::li;
 use brume::integrator::Scene;
+use brume::math::color::Rgb;
 use brume::math::Ray;
 use brume::sampling::Sampler;
 

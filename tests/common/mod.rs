@@ -3,8 +3,8 @@
 //! and where the test files are (`data`).
 #![allow(dead_code, clippy::needless_range_loop)]
 
-use brume::color::Rgb;
 use brume::integrator::{li, Scene};
+use brume::math::color::Rgb;
 use brume::math::Ray;
 use brume::sampling::Sampler;
 use std::path::Path;

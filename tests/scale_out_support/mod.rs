@@ -121,7 +121,7 @@ pub fn merge(dir: &Path, pieces: &[PathBuf]) -> PathBuf {
 
 /// The film in an EXR written by brume.
 pub fn film(path: &Path) -> Film {
-    brume::image_io::read_film_exr(path).unwrap()
+    brume::film::image_io::read_film_exr(path).unwrap()
 }
 
 /// Every beauty channel mean of `film` as f32, in pixel order.

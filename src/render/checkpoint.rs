@@ -7,8 +7,8 @@
 //! after the render replaces it.
 
 use crate::error::Result;
-use crate::image_io::{write_exr, write_png_tonemapped, Image};
-use crate::tonemap::Tonemap;
+use crate::film::image_io::{write_exr, write_png_tonemapped, Image};
+use crate::film::tonemap::Tonemap;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 

@@ -7,7 +7,7 @@
 //! denoises them). The result is written as its own EXR layer
 //! (`denoised.R/G/B`); the beauty stays the unbiased estimate.
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 
 /// Channels of the denoised layer.
 pub const CHANNELS: [&str; 3] = ["denoised.R", "denoised.G", "denoised.B"];

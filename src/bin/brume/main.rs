@@ -1,7 +1,7 @@
 //! The `brume` command line: `render`, and the tools around it.
 
 use brume::error::{Error, Result};
-use brume::image_io;
+use brume::film::image_io;
 use brume::render::{render_part, RenderOptions};
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
@@ -154,7 +154,7 @@ struct RenderArgs {
     #[arg(long, requires = "frames")]
     skip_existing: bool,
     #[command(flatten)]
-    split: brume::split::SplitArgs,
+    split: brume::render::split::SplitArgs,
 }
 
 fn main() {
@@ -259,11 +259,11 @@ fn run_compare(args: CompareArgs) -> Result<i32> {
     if let Some(diff) = &args.diff {
         image_io::check_writable(diff)?;
     }
-    let (c, a, b) = brume::compare::compare_files(&args.a, &args.b)?;
+    let (c, a, b) = brume::film::compare::compare_files(&args.a, &args.b)?;
     print!("{}", c.report());
     if let Some(diff) = &args.diff {
-        let scale = brume::compare::diff_scale(&a, &b);
-        let rgb = brume::compare::false_colour(&a, &b, scale);
+        let scale = brume::film::compare::diff_scale(&a, &b);
+        let rgb = brume::film::compare::false_colour(&a, &b, scale);
         let (w, h) = c.size;
         image_io::write_png_srgb8(diff, w as u32, h as u32, &rgb)?;
         println!(
@@ -333,7 +333,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
 fn apply_overrides(
     scene: &mut brume::integrator::Scene,
     args: &RenderArgs,
-) -> Result<brume::tonemap::Tonemap> {
+) -> Result<brume::film::tonemap::Tonemap> {
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));
@@ -350,7 +350,7 @@ fn apply_overrides(
         scene.aovs = parse_aovs(list)?;
     }
     if args.denoise {
-        if !brume::denoise::AVAILABLE {
+        if !brume::film::denoise::AVAILABLE {
             return Err(argument(
                 "--denoise",
                 "this brume was built without the `denoise` feature (see docs/outputs.md)",
@@ -363,7 +363,7 @@ fn apply_overrides(
             }
         }
     }
-    brume::tonemap::Tonemap::from_name(&args.tonemap)
+    brume::film::tonemap::Tonemap::from_name(&args.tonemap)
         .ok_or_else(|| argument("--tonemap", "must be aces or clip"))
 }
 
@@ -425,7 +425,7 @@ fn install_interrupt_handler() -> Arc<AtomicBool> {
 struct Job<'a> {
     args: &'a RenderArgs,
     time_budget: Option<Duration>,
-    tonemap: brume::tonemap::Tonemap,
+    tonemap: brume::film::tonemap::Tonemap,
     show: bool,
     cancel: &'a Arc<AtomicBool>,
 }
@@ -440,14 +440,16 @@ fn render_and_write(
 ) -> Result<i32> {
     let args = job.args;
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let part = brume::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
+    let part =
+        brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
     if args.split.is_piece() && !scene.aovs.is_empty() {
         return Err(argument(
             "--aovs",
             "AOV layers are not supported on split renders (--crop, --samples, --task-count) yet",
         ));
     }
-    let scene_hash = brume::scene_hash::frame_scene_hash(&args.scene, &scene.settings, frame)?;
+    let scene_hash =
+        brume::render::provenance::frame_scene_hash(&args.scene, &scene.settings, frame)?;
     check_outputs(exr_path, png_path, inputs)?;
     check_memory(scene, &args.scene)?;
     let options = RenderOptions {
@@ -464,7 +466,7 @@ fn render_and_write(
                 "must be a positive number of seconds",
             ))
         }
-        Some(t) => Some(brume::checkpoint::Checkpoint::new(
+        Some(t) => Some(brume::render::checkpoint::Checkpoint::new(
             Duration::from_secs_f64(t),
             exr_path.to_path_buf(),
             png_path.to_path_buf(),
@@ -480,7 +482,7 @@ fn render_and_write(
                 .file_stem()
                 .map(|s| s.to_string_lossy().to_string())
                 .unwrap_or_else(|| "render".into());
-            Some(brume::display::Display::connect(address, &name)?)
+            Some(brume::render::display::Display::connect(address, &name)?)
         }
         None => None,
     };
@@ -524,7 +526,7 @@ fn render_and_write(
 }
 
 fn run_merge(args: MergeArgs) -> Result<i32> {
-    let merged = brume::merge::merge_files(&args.pieces, &args.out, args.png.as_deref())?;
+    let merged = brume::film::merge::merge_files(&args.pieces, &args.out, args.png.as_deref())?;
     for note in &merged.notes {
         eprintln!("{note}");
     }
@@ -557,7 +559,7 @@ fn denoise_layer(
             .map(|(_, v)| v.as_slice())
             .unwrap_or(&[])
     };
-    let denoised = brume::denoise::denoise(
+    let denoised = brume::film::denoise::denoise(
         image.width,
         image.height,
         &image.pixels,
@@ -568,7 +570,7 @@ fn denoise_layer(
         path: exr.to_path_buf(),
         message,
     })?;
-    for (name, values) in brume::denoise::CHANNELS.iter().zip(denoised) {
+    for (name, values) in brume::film::denoise::CHANNELS.iter().zip(denoised) {
         layers.push((name.to_string(), values));
     }
     Ok(())
@@ -606,8 +608,8 @@ fn render_live(
     options: &RenderOptions,
     part: &brume::render::Part,
     cancel: &AtomicBool,
-    mut display: Option<brume::display::Display>,
-    mut checkpoint: Option<brume::checkpoint::Checkpoint>,
+    mut display: Option<brume::render::display::Display>,
+    mut checkpoint: Option<brume::render::checkpoint::Checkpoint>,
 ) -> brume::render::RenderOutput {
     if display.is_none() && checkpoint.is_none() {
         return render_part(scene, options, part, cancel, None);

@@ -5,12 +5,17 @@
 //! the pixel, and passes are added in pass order, so the image depends on the
 //! seed only, never on the thread count or scheduling.
 
-use crate::color::Rgb;
+pub mod checkpoint;
+pub mod display;
+pub mod provenance;
+pub mod split;
+
+use crate::film::image_io::Image;
 use crate::film::{Film, Provenance, Rect, SampleRange};
-use crate::image_io::Image;
 use crate::integrator::aov::{aov_sample, Aov, AovPixel};
 use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::{li, Scene};
+use crate::math::color::Rgb;
 use crate::sampling::PixelStreams;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;

@@ -12,8 +12,14 @@
 //! In the EXR a layer's channels are `NAME.CH` (the beauty's bare `R`, `G`,
 //! `B`); a bare channel such as `A` is a channel added to the beauty layer.
 
-use crate::color::Rgb;
-use crate::image_io::Image;
+pub mod compare;
+pub mod denoise;
+pub mod image_io;
+pub mod merge;
+pub mod tonemap;
+
+use crate::film::image_io::Image;
+use crate::math::color::Rgb;
 use std::fmt;
 
 /// Name of the beauty layer (its channels are written as plain R, G, B).

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 use brume::error::Result;
-use brume::image_io;
+use brume::film::image_io;
 use brume::scene::animation::{has_pattern, parse_frames, substitute};
 
 use super::{
@@ -64,7 +64,7 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
     let mut job = Job {
         args,
         time_budget,
-        tonemap: brume::tonemap::Tonemap::from_name(&args.tonemap)
+        tonemap: brume::film::tonemap::Tonemap::from_name(&args.tonemap)
             .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?,
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: &cancel,

@@ -243,9 +243,9 @@ fn add(film: &mut Film, piece: &Film) {
 
 /// Reads the pieces, merges them and writes the merged film to `out` (and a PNG preview to `png`).
 pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result<Merged> {
-    crate::image_io::check_writable(out)?;
+    crate::film::image_io::check_writable(out)?;
     if let Some(png) = png {
-        crate::image_io::check_writable(png)?;
+        crate::film::image_io::check_writable(png)?;
     }
     if let Some(absent) = pieces.iter().find(|p| !p.exists()) {
         return Err(refuse(format!(
@@ -261,12 +261,12 @@ pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result
     }
     let films = pieces
         .iter()
-        .map(|p| Ok((p.clone(), crate::image_io::read_film_exr(p)?)))
+        .map(|p| Ok((p.clone(), crate::film::image_io::read_film_exr(p)?)))
         .collect::<Result<Vec<_>>>()?;
     let merged = merge(&films)?;
-    crate::image_io::write_film_exr(out, &merged.film)?;
+    crate::film::image_io::write_film_exr(out, &merged.film)?;
     if let Some(png) = png {
-        crate::image_io::write_png(png, &merged.film.beauty_image(), 0.0)?;
+        crate::film::image_io::write_png(png, &merged.film.beauty_image(), 0.0)?;
     }
     Ok(merged)
 }

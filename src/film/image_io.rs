@@ -4,9 +4,9 @@
 //! and renamed over the destination only on success, so a failed or
 //! interrupted write never destroys an existing image.
 
-use crate::color::Rgb;
 use crate::error::{Error, Result};
-use crate::tonemap::Tonemap;
+use crate::film::tonemap::Tonemap;
+use crate::math::color::Rgb;
 use exr::prelude::ReadChannels as _;
 use exr::prelude::ReadLayers as _;
 use std::path::{Path, PathBuf};

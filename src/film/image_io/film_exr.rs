@@ -352,7 +352,7 @@ mod tests {
         let image = super::super::Image {
             width: 2,
             height: 2,
-            pixels: vec![crate::color::Rgb::BLACK; 4],
+            pixels: vec![crate::math::color::Rgb::BLACK; 4],
             spp: 1,
             partial: false,
         };
