@@ -533,6 +533,7 @@ impl Iterator for GridMajorants<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::volume::GridTransform;
 
     /// About 32 cells along the longest axis, kept within 4..=32 voxels a cell.
     #[test]
