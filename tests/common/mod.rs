@@ -11,7 +11,10 @@ use std::path::Path;
 
 pub mod data;
 pub mod k_sigma;
+pub mod scene_text;
 pub mod stats;
+
+pub use scene_text::SceneText;
 
 #[allow(unused_imports)]
 pub use stats::{
@@ -30,22 +33,11 @@ pub fn scene_from_str(text: &str) -> Scene {
 /// Paths are never cut short (no depth limit or roulette in practice), so
 /// the expected value of every pixel is known in closed form.
 pub fn furnace_scene(medium: &str, env: f32) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 35.0
-        resolution = [6, 6]
-        [integrator]
-        max_depth = 100000
-        rr_depth = 100000
-        [[light]]
-        type = "environment"
-        radiance = {env}
-        {medium}
-        "#
-    )
+    SceneText::furnace_view(6)
+        .depths(100000, 100000)
+        .environment(env)
+        .raw(medium)
+        .build()
 }
 
 /// Mean and standard error of the mean of a set of samples (per channel).
