@@ -3,7 +3,8 @@
 
 mod analytic_support;
 
-use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str, SceneText};
+use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
+use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate_li};
 use brume::film::image_io::{write_exr, Image};
 use brume::light::envmap::EnvMap;

@@ -381,20 +381,10 @@ fn dense_vdb_costs_about_what_the_homogeneous_medium_costs() {
     use brume::render::{render, RenderOptions};
     use std::sync::atomic::AtomicBool;
     let scene = |medium: &str| {
-        common::scene_from_str(&format!(
-            r#"
-            [camera]
-            position = [0.0, 1.0, 4.0]
-            look_at = [0.0, 0.5, 0.0]
-            resolution = [32, 24]
-            [[light]]
-            type = "point"
-            position = [0.0, 3.0, 2.0]
-            intensity = 20.0
-            [[medium]]
-            {medium}
-            "#
-        ))
+        let text = common::SceneText::camera([0.0, 1.0, 4.0], [0.0, 0.5, 0.0], [32, 24])
+            .point_light([0.0, 3.0, 2.0], 20.0)
+            .medium(medium);
+        common::scene_from_str(&text.build())
     };
     let vdb = scene(
         "type = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\ndensity_scale = 1e6\nalbedo = 1.0",

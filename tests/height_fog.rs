@@ -410,23 +410,13 @@ fn overlapping_fogs_add_under_spectral_tracking() {
 /// An emitting, absorbing height fog in front of a constant sky: L = L_bg·T + Le·(1 - T) per channel.
 #[test]
 fn emission_absorption_radiance_through_height_fog() {
-    let text = r#"
-        [camera]
-        position = [0.0, 0.0, 0.0]
-        look_at = [0.0, 0.0, -1.0]
-        resolution = [4, 4]
-        [[light]]
-        type = "environment"
-        radiance = [0.2, 0.5, 1.0]
-        [[medium]]
-        type = "height_fog"
-        sigma_a = [0.3, 0.1, 0.05]
-        emission = [2.0, 1.0, 0.5]
-        height = 1.0
-        scale_height = 2.0
-    "#;
-    let scene = scene_from_str(text);
     let (bg, le) = ([0.2, 0.5, 1.0], [2.0, 1.0, 0.5]);
+    let text = SceneText::camera([0.0; 3], [0.0, 0.0, -1.0], [4, 4])
+        .environment(bg)
+        .medium(&format!(
+            "type = \"height_fog\"\nsigma_a = [0.3, 0.1, 0.05]\nemission = {le:?}\nheight = 1.0\nscale_height = 2.0"
+        ));
+    let scene = scene_from_str(&text.build());
     let medium = &scene.media[0];
     for (name, d) in [
         ("up", Vec3::new(0.0, 1.0, -0.3).normalize()),

@@ -16,7 +16,7 @@ use brume::medium::{
 };
 use brume::sampling::Sampler;
 use brume::volume::{FloatGrid, GridTransform};
-use common::{assert_estimate, scene_from_str, Accumulator, Estimate};
+use common::{assert_estimate, scene_from_str, Accumulator, Estimate, SceneText};
 use glam::{DVec3, IVec3};
 use std::sync::Arc;
 
@@ -93,20 +93,11 @@ fn check_all(
 }
 
 fn vdb_box(file: &str, majorant: &str, sigma_t_scale: &str) -> Medium {
-    let scene = scene_from_str(&format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        [[medium]]
-        type = "vdb"
-        file = "tests/data/volumes/{file}"
-        density_scale = 2.0
-        sigma_t_scale = {sigma_t_scale}
-        albedo = 0.6
-        majorant = "{majorant}"
-        "#
+    let text = SceneText::view([0.0, 0.0, 4.0], [0.0; 3]).medium(&format!(
+        "type = \"vdb\"\nfile = \"tests/data/volumes/{file}\"\ndensity_scale = 2.0\n\
+         sigma_t_scale = {sigma_t_scale}\nalbedo = 0.6\nmajorant = \"{majorant}\""
     ));
+    let scene = scene_from_str(&text.build());
     scene.media[0].clone()
 }
 
@@ -276,17 +267,9 @@ fn variance(m: &Medium, ray: &Ray, e: TransmittanceEstimator, n: usize) -> f64 {
 /// Ratio tracking has lower variance than delta tracking on the same rays through the smoke plume.
 #[test]
 fn ratio_tracking_beats_delta_tracking_variance() {
-    let scene = scene_from_str(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        [[medium]]
-        type = "vdb"
-        file = "volumes/smoke_plume.vdb"
-        density_scale = 4.0
-        "#,
-    );
+    let text = SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+        .medium("type = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\ndensity_scale = 4.0");
+    let scene = scene_from_str(&text.build());
     let m = &scene.media[0];
     let (mut var_delta, mut var_ratio) = (0.0, 0.0);
     for (o, d) in [

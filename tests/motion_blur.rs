@@ -14,8 +14,7 @@
 mod analytic_support;
 
 use analytic_support::common::sample_bits;
-use analytic_support::scene_from_str;
-use analytic_support::common::SceneText;
+use analytic_support::{scene_from_str, SceneText};
 
 fn with_shutter(scene: &str, shutter: &str) -> String {
     scene.replace("[camera]", &format!("[camera]\nshutter = {shutter}"))

@@ -17,7 +17,7 @@ mod analytic_support;
 use std::sync::Arc;
 
 use analytic_support::common::scene_from_str;
-use analytic_support::{assert_estimate, assert_same, estimate};
+use analytic_support::{assert_estimate, assert_same, estimate, SceneText};
 use brume::integrator::tracking::{medium_transmittance, TransmittanceEstimator};
 use brume::math::color::Rgb;
 use brume::math::keyframes::{Key, Keyframes};
@@ -34,25 +34,15 @@ use glam::{DQuat, DVec3, IVec3};
 const SHUTTER: [f32; 2] = [-0.5, 0.5];
 const SIGMA_T: f64 = 1.5;
 
+/// A homogeneous medium in `bounds` moved by the keyframes `keys`, under a uniform sky.
 fn medium_scene(bounds: &str, keys: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 5.0]
-        look_at = [0.0, 0.0, 0.0]
-        resolution = [4, 4]
-        shutter = [-0.5, 0.5]
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[medium]]
-        type = "homogeneous"
-        sigma_t = {SIGMA_T}
-        albedo = 0.5
-        bounds = {bounds}
-        transform = {keys}
-        "#
-    )
+    SceneText::camera([0.0, 0.0, 5.0], [0.0; 3], [4, 4])
+        .with("shutter = [-0.5, 0.5]")
+        .environment(1.0)
+        .medium(&format!(
+            "type = \"homogeneous\"\nsigma_t = {SIGMA_T:?}\nalbedo = 0.5\nbounds = {bounds}\ntransform = {keys}"
+        ))
+        .build()
 }
 
 /// Slab chord of the ray (o, d) through the box [lo, hi] (f64).

@@ -23,7 +23,7 @@ fn furnace_with(
     sampler: &str,
 ) -> Vec<Estimate> {
     let text = SceneText::camera([0.0, 0.0, 4.0], [0.0; 3], [resolution, resolution])
-        .fov(fov as f64)
+        .fov(fov)
         .integrator(&format!(
             "max_depth = 1000\nrr_depth = {rr_depth}\nsampler = \"{sampler}\""
         ))

@@ -3,9 +3,10 @@
 //! out only what makes its scene special. The result is plain TOML, read by
 //! `scene_from_str` or written to a file for the command line.
 //!
-//! Values are written as Rust's `{:?}` writes them (`1.0`, `[0.0, 1.0, 4.0]`,
-//! `[6, 6]`), which TOML reads as the same numbers; a table gets exactly
-//! the keys given, so every other key keeps its documented default.
+//! Values (numbers and arrays of them, f32 or f64) are written as Rust's
+//! `{:?}` writes them (`1.0`, `[0.0, 1.0, 4.0]`, `[6, 6]`), which TOML reads
+//! as the same numbers; a table gets exactly the keys given, so every other
+//! key keeps its documented default.
 
 use std::fmt::{self, Debug, Display, Write};
 
@@ -17,10 +18,19 @@ pub struct SceneText {
 
 impl SceneText {
     /// A scene whose `[camera]` stands at `position`, looks at `look_at` and has `resolution` pixels.
-    pub fn camera(position: [f64; 3], look_at: [f64; 3], resolution: [u32; 2]) -> Self {
+    pub fn camera(position: impl Debug, look_at: impl Debug, resolution: [u32; 2]) -> Self {
         Self::default().table(
             "[camera]",
             &format!("position = {position:?}\nlook_at = {look_at:?}\nresolution = {resolution:?}"),
+        )
+    }
+
+    /// A scene whose `[camera]` stands at `position` and looks at `look_at`,
+    /// at the default resolution: for tests that trace their own rays.
+    pub fn view(position: impl Debug, look_at: impl Debug) -> Self {
+        Self::default().table(
+            "[camera]",
+            &format!("position = {position:?}\nlook_at = {look_at:?}"),
         )
     }
 
@@ -39,7 +49,7 @@ impl SceneText {
     }
 
     /// The camera's field of view in degrees (right after `camera`).
-    pub fn fov(self, degrees: f64) -> Self {
+    pub fn fov(self, degrees: impl Debug) -> Self {
         self.with(&format!("fov = {degrees:?}"))
     }
 
@@ -70,14 +80,14 @@ impl SceneText {
     }
 
     /// A point light at `position` of `intensity` (a number or an RGB triple).
-    pub fn point_light(self, position: [f64; 3], intensity: impl Debug) -> Self {
+    pub fn point_light(self, position: impl Debug, intensity: impl Debug) -> Self {
         self.light(&format!(
             "type = \"point\"\nposition = {position:?}\nintensity = {intensity:?}"
         ))
     }
 
     /// A sun shining along `direction` with `irradiance` (a number or an RGB triple).
-    pub fn sun(self, direction: [f64; 3], irradiance: impl Debug) -> Self {
+    pub fn sun(self, direction: impl Debug, irradiance: impl Debug) -> Self {
         self.light(&format!(
             "type = \"sun\"\ndirection = {direction:?}\nirradiance = {irradiance:?}"
         ))
@@ -89,7 +99,7 @@ impl SceneText {
     }
 
     /// A sphere of `radius` at `center`.
-    pub fn sphere(self, center: [f64; 3], radius: f64) -> Self {
+    pub fn sphere(self, center: impl Debug, radius: impl Debug) -> Self {
         self.shape(&format!(
             "type = \"sphere\"\ncenter = {center:?}\nradius = {radius:?}"
         ))
@@ -103,7 +113,7 @@ impl SceneText {
     }
 
     /// A quad at `center` facing `normal`, `size` across.
-    pub fn quad(self, center: [f64; 3], normal: [f64; 3], size: [f64; 2]) -> Self {
+    pub fn quad(self, center: impl Debug, normal: impl Debug, size: impl Debug) -> Self {
         self.shape(&format!(
             "type = \"quad\"\ncenter = {center:?}\nnormal = {normal:?}\nsize = {size:?}"
         ))
