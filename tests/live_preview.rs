@@ -1,31 +1,26 @@
 //! `--display` against a loopback tev server written here, and `--checkpoint`.
 
+mod common;
+
+use common::SceneText;
 use std::io::Read;
 use std::net::TcpListener;
 use std::path::Path;
 
 /// A small scene: a diffuse sphere under an environment, 24×16 pixels.
-const SCENE: &str = r#"
-[camera]
-position = [0.0, 0.0, 4.0]
-look_at = [0.0, 0.0, 0.0]
-fov = 40.0
-resolution = [24, 16]
-[integrator]
-spp = 48
-[[light]]
-type = "environment"
-radiance = [0.8, 0.9, 1.0]
-[[shape]]
-type = "sphere"
-center = [0.0, 0.0, 0.0]
-radius = 1.0
-material = { type = "diffuse", albedo = [0.7, 0.5, 0.3] }
-"#;
+fn scene() -> String {
+    SceneText::camera([0.0, 0.0, 4.0], [0.0; 3], [24, 16])
+        .fov(40.0)
+        .integrator("spp = 48")
+        .environment([0.8, 0.9, 1.0])
+        .sphere([0.0; 3], 1.0)
+        .with("material = { type = \"diffuse\", albedo = [0.7, 0.5, 0.3] }")
+        .build()
+}
 
 fn write_scene(dir: &Path) -> std::path::PathBuf {
     let path = dir.join("ball.toml");
-    std::fs::write(&path, SCENE).unwrap();
+    std::fs::write(&path, scene()).unwrap();
     path
 }
 

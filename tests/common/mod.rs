@@ -9,6 +9,7 @@ use brume::math::Ray;
 use brume::sampling::Sampler;
 use std::path::Path;
 
+pub mod cli;
 pub mod data;
 pub mod k_sigma;
 pub mod scene_text;
