@@ -124,8 +124,12 @@ fn lit_ground_through_an_absorber() {
             .integrator(&format!("max_depth = {max_depth}"))
             .point_light(light.to_array(), intensity)
             .quad([0.0; 3], [0.0, 1.0, 0.0], [50.0, 50.0])
-            .with(&format!("material = {{ type = \"diffuse\", albedo = {rho:?} }}"))
-            .medium(&format!("type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nglobal = true"));
+            .with(&format!(
+                "material = {{ type = \"diffuse\", albedo = {rho:?} }}"
+            ))
+            .medium(&format!(
+                "type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nglobal = true"
+            ));
         let scene = scene_from_str(&text.build());
         let to_light = (light - ground).as_dvec3();
         let r = to_light.length();

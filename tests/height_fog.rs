@@ -10,9 +10,7 @@
 mod common;
 
 use brume::error::Error;
-use brume::integrator::tracking::{
-    medium_transmittance, sample_free_flight, FreeFlight, TransmittanceEstimator,
-};
+use brume::integrator::tracking::{medium_transmittance, FreeFlight, TransmittanceEstimator};
 use brume::math::color::Rgb;
 use brume::math::{Affine3A, Ray, Vec3};
 use brume::medium::{HeightFog, HomogeneousMedium, Medium, PhaseFunction, Region};
@@ -331,17 +329,12 @@ fn free_flight_distances_follow_closed_form_cdf() {
             (sigma * (-tau_t(t)).exp()) as f32
         };
         let result = IntervalChi2::new(0.0, t_max, n, 1).run(
-            |_| {
-                let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-                let media = std::slice::from_ref(&medium);
-                match sample_free_flight(media, &ray, t_max, &mut beta, &mut radiance, &mut sampler)
-                {
-                    FreeFlight::Scatter { t, .. } => {
-                        assert!((beta.r - 1.0).abs() < 1e-3, "{beta:?}");
-                        Some(t)
-                    }
-                    _ => None,
+            |_| match free_flight(std::slice::from_ref(&medium), &ray, t_max, &mut sampler) {
+                (FreeFlight::Scatter { t, .. }, beta, _) => {
+                    assert!((beta.r - 1.0).abs() < 1e-3, "{beta:?}");
+                    Some(t)
                 }
+                _ => None,
             },
             pdf,
         );
@@ -393,12 +386,8 @@ fn overlapping_fogs_add_under_spectral_tracking() {
         let mut acc = Accumulator::default();
         let mut sampler = Sampler::from_seed(11);
         for _ in 0..n {
-            let mut beta = Rgb::WHITE;
-            let mut radiance = Rgb::BLACK;
-            let event =
-                sample_free_flight(&media, &ray, t_max, &mut beta, &mut radiance, &mut sampler);
-            acc.add(match event {
-                FreeFlight::Passed => beta,
+            acc.add(match free_flight(&media, &ray, t_max, &mut sampler) {
+                (FreeFlight::Passed, beta, _) => beta,
                 _ => Rgb::BLACK,
             });
         }

@@ -6,7 +6,7 @@
 
 mod common;
 
-use brume::integrator::tracking::{medium_transmittance, sample_free_flight, FreeFlight};
+use brume::integrator::tracking::{medium_transmittance, FreeFlight};
 use brume::integrator::TransmittanceEstimator;
 use brume::math::color::Rgb;
 use brume::math::{Affine3A, Bounds3, Quat, Ray, Vec3};
@@ -16,7 +16,7 @@ use brume::medium::{
 };
 use brume::sampling::Sampler;
 use brume::volume::{FloatGrid, GridTransform};
-use common::{assert_estimate, scene_from_str, Accumulator, Estimate, SceneText};
+use common::{assert_estimate, free_flight, scene_from_str, Accumulator, Estimate, SceneText};
 use glam::{DVec3, IVec3};
 use std::sync::Arc;
 
@@ -47,15 +47,7 @@ fn free_flight_transmittance(m: &Medium, ray: &Ray, t_max: f32, n: usize) -> Est
     let mut acc = Accumulator::default();
     for i in 0..n {
         let mut sampler = Sampler::new(29, 1, 2, i as u64);
-        let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-        let flight = sample_free_flight(
-            std::slice::from_ref(m),
-            ray,
-            t_max,
-            &mut beta,
-            &mut radiance,
-            &mut sampler,
-        );
+        let (flight, beta, _) = free_flight(std::slice::from_ref(m), ray, t_max, &mut sampler);
         acc.add(match flight {
             FreeFlight::Passed => beta,
             _ => Rgb::BLACK,

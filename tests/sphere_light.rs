@@ -49,7 +49,9 @@ fn scene_text(p: Vec3, e: f64, d: f64, r: f64, medium: bool) -> String {
     SceneText::view([0.0, 1.0, 5.0], [0.0; 3])
         .integrator("max_depth = 1")
         .quad(p.to_array(), [0.0, 1.0, 0.0], [1.0, 1.0])
-        .with(&format!("material = {{ type = \"diffuse\", albedo = {ALBEDO} }}"))
+        .with(&format!(
+            "material = {{ type = \"diffuse\", albedo = {ALBEDO} }}"
+        ))
         .sphere(c, r)
         .with(&format!(
             "emission = {RADIANCE}\nmaterial = {{ type = \"diffuse\", albedo = 0.0 }}"

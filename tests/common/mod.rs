@@ -3,9 +3,11 @@
 //! and where the test files are (`data`).
 #![allow(dead_code, clippy::needless_range_loop)]
 
+use brume::integrator::tracking::{sample_free_flight, FreeFlight};
 use brume::integrator::{li, Scene};
 use brume::math::color::Rgb;
 use brume::math::Ray;
+use brume::medium::Medium;
 use brume::sampling::Sampler;
 use std::path::Path;
 
@@ -92,6 +94,19 @@ pub fn estimate_ray(scene: &Scene, ray: Ray, n: usize, seed: u64) -> Estimate {
         acc.add(li(scene, ray, &mut sampler));
     }
     acc.estimate()
+}
+
+/// One free flight through `media` along `ray` up to `t_max` from unit
+/// throughput: the event, the throughput after it and the radiance it gathered.
+pub fn free_flight(
+    media: &[Medium],
+    ray: &Ray,
+    t_max: f32,
+    sampler: &mut Sampler,
+) -> (FreeFlight, Rgb, Rgb) {
+    let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+    let event = sample_free_flight(media, ray, t_max, &mut throughput, &mut radiance, sampler);
+    (event, throughput, radiance)
 }
 
 /// Every sample of every pixel of the render path, in order, as bits: equal
