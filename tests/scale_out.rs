@@ -6,6 +6,7 @@
 //! and src/film/merge.rs): the merged f64 sums differ from the single render's by
 //! f64 rounding only, so each f32 pixel is equal or 1 ulp apart.
 
+mod common;
 #[path = "scale_out_support/mod.rs"]
 mod support;
 

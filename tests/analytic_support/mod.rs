@@ -7,7 +7,8 @@ pub mod common;
 
 #[allow(unused_imports)]
 pub use common::{
-    assert_estimate, assert_same, assert_within, k_sigma, scene_from_str, Accumulator, Estimate,
+    assert_estimate, assert_same, assert_within, free_flight, k_sigma, scene_from_str, Accumulator,
+    Estimate, SceneText,
 };
 
 use brume::integrator::li;
