@@ -1,18 +1,28 @@
 //! `brume merge`: pieces of one render (crops and sample ranges) added into
 //! the film of the whole render, a pure function of the films.
 //!
-//! Every pixel's f64 sums and counts are added, pieces taken in order of their
-//! first sample index (then row, then column), so the result does not depend
-//! on the order the pieces are named. A crop piece holds exactly the sums the
-//! full render holds for its pixels, so crops merge bit for bit. Sample-range
-//! pieces add the same f64 samples grouped differently: the merged f64 mean
-//! differs from the single render's by f64 rounding (a relative 2⁻⁵³ per
-//! addition), so the f32 pixel equals the single render's or is its f32
-//! neighbour (at most 1 ulp apart), and then only when the exact mean falls
-//! within f64 rounding of an f32 rounding boundary.
+//! Every layer's sums and counts (the beauty's and each AOV's) and the splat
+//! sums are added, pieces taken in order of their first sample index (then
+//! row, then column), so the result does not depend on the order the pieces
+//! are named. A piece's EXR holds f32 means and exact counts (its sums are
+//! mean × count), so:
+//! - crops merge bit for bit: every pixel comes from one piece, whose mean
+//!   is written back unchanged;
+//! - sample ranges merge to within one f32 step of the single render in
+//!   every channel whose samples share a sign (beauty, alpha, depth, albedo,
+//!   transmittance): each piece's mean is off its exact value by at most
+//!   half an f32 step, a relative 2⁻²⁴, so the count-weighted merge is off
+//!   the single render's exact mean by at most a relative 2⁻²⁴, less than
+//!   one f32 step, and the two round to the same f32 or to neighbours (at an
+//!   exact power of two, where the step halves, two steps of the smaller).
+//!   The normal's samples have both signs: there the bound is 2⁻²⁴ times the
+//!   count-weighted mean of the pieces' |means|, plus one step;
+//! - a splat-carrying film's pixel is its mean plus its splat sum over the
+//!   samples per pixel; merging re-divides the summed splats by the merged
+//!   samples per pixel, exact up to the same f32 rounding of each part.
 //!
 //! Refused: pieces of different scenes (scene hash), seeds, display windows,
-//! render spp or layers; two pieces holding a sample of the same pixel; and a
+//! render spp or layers (AOVs, splats); two pieces holding a sample of the same pixel; and a
 //! pixel lacking a sample range (a missing piece). Interrupted pieces are
 //! accepted and weighted by the samples they hold; the merge is then marked
 //! incomplete and its `brume:samples_held` lists the samples every pixel holds.
@@ -47,9 +57,11 @@ pub fn merge(pieces: &[(PathBuf, Film)]) -> Result<Merged> {
     order.sort_by_key(|(_, f)| (f.provenance.requested[0].start, f.window.y0, f.window.x0));
     let (w, h) = first.display;
     let mut film = Film::new(first.display, Rect::full(w, h), merged_provenance(pieces));
-    for layer in &first.layers[1..] {
-        let channels: Vec<&str> = layer.channels.iter().map(String::as_str).collect();
-        film.add_layer(&layer.name, &channels);
+    let n = film.window.area();
+    film.layers
+        .extend(first.layers[1..].iter().map(|l| l.emptied(n)));
+    if first.splats.is_some() {
+        film.add_splats();
     }
     for (_, piece) in order {
         add(&mut film, piece);
@@ -106,9 +118,14 @@ fn check_same_render(a_path: &Path, a: &Film, b_path: &Path, b: &Film) -> Result
         return differs("render size", spp(pa), spp(pb));
     }
     let names = |f: &Film| -> Vec<String> {
+        let splats = f
+            .splats
+            .as_ref()
+            .map(|_| "splats.R,splats.G,splats.B".to_string());
         f.layers
             .iter()
-            .flat_map(|l| (0..l.channels.len()).map(|c| l.channel_name(c)))
+            .flat_map(|l| l.channels.iter().cloned())
+            .chain(splats)
             .collect()
     };
     if names(a) != names(b) {
@@ -222,7 +239,8 @@ fn merged_provenance(pieces: &[(PathBuf, Film)]) -> Provenance {
     }
 }
 
-/// Adds `piece`'s sums and counts into `film` at the piece's pixels.
+/// Adds `piece`'s sums and counts into `film` at the piece's pixels, and its
+/// splats (which may lie outside its pixels) over the display window.
 fn add(film: &mut Film, piece: &Film) {
     let win = piece.window;
     for y in win.y0..win.y1 {
@@ -236,13 +254,32 @@ fn add(film: &mut Film, piece: &Film) {
                 for c in 0..k {
                     to.sums[i * k + c] += from.sums[j * k + c];
                 }
+                if let (Some(to), Some(from)) = (to.counts.as_mut(), from.counts.as_ref()) {
+                    to[i] += from[j];
+                }
             }
         }
     }
+    if let (Some(to), Some(from)) = (film.splats.as_mut(), piece.splats.as_ref()) {
+        to.add_sums(from);
+    }
 }
 
-/// Reads the pieces, merges them and writes the merged film to `out` (and a PNG preview to `png`).
-pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result<Merged> {
+/// Reads the pieces, merges them and writes the merged film to `out` (and a
+/// PNG preview to `png`); with `denoise`, adds the denoised beauty, guided by
+/// the merged albedo and normal layers (see `denoise::denoise_film`).
+pub fn merge_files(
+    pieces: &[PathBuf],
+    out: &Path,
+    png: Option<&Path>,
+    denoise: bool,
+) -> Result<Merged> {
+    if denoise && !crate::denoise::AVAILABLE {
+        return Err(Error::Argument {
+            argument: "--denoise".into(),
+            message: crate::denoise::UNAVAILABLE.into(),
+        });
+    }
     crate::image_io::check_writable(out)?;
     if let Some(png) = png {
         crate::image_io::check_writable(png)?;
@@ -264,7 +301,14 @@ pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result
         .map(|p| Ok((p.clone(), crate::image_io::read_film_exr(p)?)))
         .collect::<Result<Vec<_>>>()?;
     let merged = merge(&films)?;
-    crate::image_io::write_film_exr(out, &merged.film)?;
+    let extra = match denoise {
+        true => crate::denoise::denoise_film(&merged.film).map_err(|message| Error::Argument {
+            argument: "--denoise".into(),
+            message,
+        })?,
+        false => Vec::new(),
+    };
+    crate::image_io::write_film_exr_with(out, &merged.film, &extra)?;
     if let Some(png) = png {
         crate::image_io::write_png(png, &merged.film.beauty_image(), 0.0)?;
     }
