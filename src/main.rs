@@ -768,6 +768,17 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
             out.nonfinite_samples
         );
     }
+    if let Some(dropped) = out
+        .film
+        .splats
+        .as_ref()
+        .map(|s| s.dropped)
+        .filter(|&d| d > 0)
+    {
+        eprintln!(
+            "warning: {dropped} splats were NaN, infinite or off the image and were left out"
+        );
+    }
     if out.tracking.capped_rays > 0 {
         eprintln!(
             "warning: {} rays reached the cap of {} tentative collisions and were ended \
