@@ -26,6 +26,7 @@ pub(super) struct Run<'a, E> {
 }
 
 impl<'a, E: Estimator> Run<'a, E> {
+    /// A render of `job` that has taken no sample yet.
     pub fn new(job: &'a Job<'a, E>, options: &'a RenderOptions, cancel: &'a AtomicBool) -> Self {
         let film = job.new_film();
         let aovs = film.layers[1..].iter().filter_map(|l| l.aov()).collect();
