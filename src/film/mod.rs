@@ -1,220 +1,88 @@
-//! The film: per-pixel f64 sums of every layer and sample counts over a data
-//! window (a crop) inside the display window, with the sample range rendered.
+//! The film: what one `brume render` (or one piece of a split render) fills in
+//! one pass over the samples and what `brume merge` adds up.
 //!
-//! A film is what one `brume render` (or one piece of a split render) fills and
-//! what `brume merge` adds up. Its layers are sums over the finite samples of
-//! each pixel; a layer's value is its sum divided by the pixel's `count`. The
-//! beauty is layer [`BEAUTY`]; more named layers (AOVs) sit beside it under
-//! their own names, and the EXR writer and `merge` handle every layer alike. A
-//! layer that needs another denominator than the sample count carries it as
-//! one of its own channels.
+//! Over a data window (a crop) inside the display window it holds, per pixel,
+//! the f64 sums of the beauty's finite samples and of their squares, the
+//! counts of finite and left-out samples, one layer of sums per AOV (each
+//! with its own per-pixel count: the samples whose AOVs were finite, or for
+//! the depth the samples that met a first vertex), and — when the integrator
+//! traces from the lights — the splat sums over the whole display window.
 //!
-//! In the EXR a layer's channels are `NAME.CH` (the beauty's bare `R`, `G`,
-//! `B`); a bare channel such as `A` is a channel added to the beauty layer.
+//! A layer's value is its sum over its count; the beauty's pixel adds the
+//! splat sum over the samples per pixel the film holds (see [`Film::pixel`]).
+//! The renderer fills a film through `render`; the EXR form is in
+//! `image_io::film_exr`.
 
 pub mod compare;
 pub mod denoise;
 pub mod image_io;
 pub mod merge;
 pub mod tonemap;
-
-use crate::film::image_io::Image;
+use crate::film::image_io::{Image, NamedChannel};
+use crate::integrator::aov::Aov;
 use crate::math::color::Rgb;
-use std::fmt;
+
+mod pixel;
+mod range;
+pub mod runs;
+mod splat;
+
+pub use pixel::{variance_of_mean, PixelSums};
+pub use range::{
+    coalesce, format_ranges, parse_range, parse_ranges, Provenance, Rect, SampleRange,
+};
+pub use splat::{Splat, Splats};
 
 /// Name of the beauty layer (its channels are written as plain R, G, B).
 pub const BEAUTY: &str = "";
 
-/// One light-tracing contribution landing on display pixel (`x`, `y`): radiance
-/// summed into the film's splat layer, divided like the beauty by the samples
-/// per pixel of the pass (not by the pixel's own count). Integrators that trace
-/// from the lights (bidirectional, photon, Metropolis) hand these to the film.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Splat {
-    /// Display column.
-    pub x: u32,
-    /// Display row (0 at the top).
-    pub y: u32,
-    /// Radiance, already weighted (MIS, pdfs, importance).
-    pub radiance: Rgb,
-}
-
-/// A half-open rectangle of pixels, x0..x1 by y0..y1, row 0 at the top.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Rect {
-    /// First column.
-    pub x0: u32,
-    /// One past the last column.
-    pub x1: u32,
-    /// First row.
-    pub y0: u32,
-    /// One past the last row.
-    pub y1: u32,
-}
-
-impl Rect {
-    /// The whole `width`×`height` frame.
-    pub fn full(width: u32, height: u32) -> Rect {
-        Rect {
-            x0: 0,
-            x1: width,
-            y0: 0,
-            y1: height,
-        }
-    }
-
-    /// Width in pixels.
-    pub fn width(&self) -> u32 {
-        self.x1 - self.x0
-    }
-
-    /// Height in pixels.
-    pub fn height(&self) -> u32 {
-        self.y1 - self.y0
-    }
-
-    /// Number of pixels.
-    pub fn area(&self) -> usize {
-        self.width() as usize * self.height() as usize
-    }
-
-    /// True when `other` lies inside this rectangle.
-    pub fn contains(&self, other: &Rect) -> bool {
-        other.x0 >= self.x0 && other.x1 <= self.x1 && other.y0 >= self.y0 && other.y1 <= self.y1
-    }
-
-    /// True when the two rectangles share a pixel.
-    pub fn overlaps(&self, other: &Rect) -> bool {
-        self.x0 < other.x1 && other.x0 < self.x1 && self.y0 < other.y1 && other.y0 < self.y1
-    }
-}
-
-impl fmt::Display for Rect {
-    /// The `--crop` form: x0,x1,y0,y1.
-    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        write!(f, "{},{},{},{}", self.x0, self.x1, self.y0, self.y1)
-    }
-}
-
-/// A half-open range of sample indices, start..end.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub struct SampleRange {
-    /// First sample index.
-    pub start: u32,
-    /// One past the last sample index.
-    pub end: u32,
-}
-
-impl SampleRange {
-    /// The range start..end.
-    pub fn new(start: u32, end: u32) -> SampleRange {
-        SampleRange { start, end }
-    }
-
-    /// Number of sample indices.
-    pub fn len(&self) -> u32 {
-        self.end.saturating_sub(self.start)
-    }
-
-    /// True when the range holds no sample.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// True when the two ranges share a sample index.
-    pub fn overlaps(&self, other: &SampleRange) -> bool {
-        self.start < other.end && other.start < self.end
-    }
-}
-
-impl fmt::Display for SampleRange {
-    /// The `--samples` form: START..END.
-    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        write!(f, "{}..{}", self.start, self.end)
-    }
-}
-
-/// Writes ranges as `0..16,32..48` (the header form).
-pub fn format_ranges(ranges: &[SampleRange]) -> String {
-    let parts: Vec<String> = ranges.iter().map(|r| r.to_string()).collect();
-    parts.join(",")
-}
-
-/// Parses `START..END`; None unless both are integers with START < END.
-pub fn parse_range(text: &str) -> Option<SampleRange> {
-    let (a, b) = text.trim().split_once("..")?;
-    let range = SampleRange::new(a.trim().parse().ok()?, b.trim().parse().ok()?);
-    (range.start < range.end).then_some(range)
-}
-
-/// Parses the header form `0..16,32..48` (empty text: no range).
-pub fn parse_ranges(text: &str) -> Option<Vec<SampleRange>> {
-    if text.trim().is_empty() {
-        return Some(Vec::new());
-    }
-    text.split(',').map(parse_range).collect()
-}
-
-/// Sorts ranges and joins the ones that touch: `16..32,0..16` → `0..32`.
-pub fn coalesce(ranges: &mut Vec<SampleRange>) {
-    ranges.retain(|r| !r.is_empty());
-    ranges.sort();
-    let mut out: Vec<SampleRange> = Vec::with_capacity(ranges.len());
-    for r in ranges.drain(..) {
-        match out.last_mut() {
-            Some(last) if r.start <= last.end => last.end = last.end.max(r.end),
-            _ => out.push(r),
-        }
-    }
-    *ranges = out;
-}
-
-/// One named layer: f64 sums of its channels, interleaved per pixel.
+/// One layer: f64 sums of its channels, interleaved per pixel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layer {
-    /// Layer name ([`BEAUTY`] for the beauty), written as the EXR channel prefix.
+    /// [`BEAUTY`] for the beauty, else the AOV's name (`alpha`, `depth`, ...).
     pub name: String,
-    /// Channel names in order, e.g. R, G, B.
+    /// Its EXR channel names in order, e.g. `R`, `G`, `B` or `normal.X`, ...
     pub channels: Vec<String>,
     /// `channels.len()` sums per pixel of the data window, row-major.
     pub sums: Vec<f64>,
+    /// The layer's own per-pixel denominators; None: the film's `counts`.
+    pub counts: Option<Vec<u32>>,
+    /// The value of a pixel without samples (+∞ for the depth, else 0).
+    pub empty: f32,
 }
 
 impl Layer {
-    /// The EXR channel name of channel `c`: `R` for the beauty, `albedo.R` for others.
+    /// The EXR channel name of channel `c`.
     pub fn channel_name(&self, c: usize) -> String {
-        if self.name.is_empty() {
-            self.channels[c].clone()
-        } else {
-            format!("{}.{}", self.name, self.channels[c])
+        self.channels[c].clone()
+    }
+
+    /// The empty layer of `aov` over `n` pixels.
+    pub fn for_aov(aov: Aov, n: usize) -> Layer {
+        let channels = aov.channels();
+        Layer {
+            name: aov.name().into(),
+            channels: channels.iter().map(|c| c.to_string()).collect(),
+            sums: vec![0.0; channels.len() * n],
+            counts: Some(vec![0; n]),
+            empty: aov.empty_value(),
         }
     }
-}
 
-/// Where a film comes from: what must agree for two films to be merged.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Provenance {
-    /// Seed of the random streams.
-    pub seed: u64,
-    /// Hash of the scene file, the files it read and the settings that change samples.
-    pub scene_hash: u64,
-    /// Samples per pixel of the whole render the film is a piece of.
-    pub spp_total: u32,
-    /// Sample ranges the film was asked to hold, coalesced.
-    pub requested: Vec<SampleRange>,
-    /// Sample ranges the film holds (less than `requested` if interrupted), coalesced.
-    pub held: Vec<SampleRange>,
-}
-
-impl Provenance {
-    /// True when the film holds every sample it was asked for.
-    pub fn complete(&self) -> bool {
-        self.held == self.requested
+    /// The AOV this layer holds (None for the beauty).
+    pub fn aov(&self) -> Option<Aov> {
+        Aov::from_name(&self.name)
     }
 
-    /// Samples held per pixel.
-    pub fn spp_held(&self) -> u32 {
-        self.held.iter().map(SampleRange::len).sum()
+    /// The same layer with zero sums and counts over `n` pixels.
+    pub fn emptied(&self, n: usize) -> Layer {
+        Layer {
+            name: self.name.clone(),
+            channels: self.channels.clone(),
+            sums: vec![0.0; self.channels.len() * n],
+            counts: self.counts.as_ref().map(|_| vec![0; n]),
+            empty: self.empty,
+        }
     }
 }
 
@@ -225,18 +93,23 @@ pub struct Film {
     pub display: (u32, u32),
     /// Data window: the pixels this film holds.
     pub window: Rect,
-    /// Finite samples summed per pixel (the denominator of every layer).
+    /// Finite beauty samples summed per pixel (the beauty's denominator).
     pub counts: Vec<u32>,
-    /// NaN or infinite samples left out per pixel.
+    /// NaN or infinite beauty samples left out per pixel.
     pub nonfinite: Vec<u32>,
-    /// Layers; `layers[0]` is the beauty.
+    /// Sums of the squared beauty samples, 3 per pixel, for the per-pixel
+    /// variance; a render keeps them, a film read from an EXR has none.
+    pub squares: Option<Vec<f64>>,
+    /// Layers; `layers[0]` is the beauty, then one per AOV.
     pub layers: Vec<Layer>,
+    /// Splat sums over the display window, when the integrator splats.
+    pub splats: Option<Splats>,
     /// Seed, scene and sample ranges.
     pub provenance: Provenance,
 }
 
 impl Film {
-    /// An empty film (zero sums) over `window` with a beauty layer.
+    /// An empty film (zero sums) over `window` with a beauty layer only.
     pub fn new(display: (u32, u32), window: Rect, provenance: Provenance) -> Film {
         let n = window.area();
         Film {
@@ -244,26 +117,31 @@ impl Film {
             window,
             counts: vec![0; n],
             nonfinite: vec![0; n],
+            squares: None,
             layers: vec![Layer {
                 name: BEAUTY.into(),
                 channels: vec!["R".into(), "G".into(), "B".into()],
                 sums: vec![0.0; 3 * n],
+                counts: None,
+                empty: 0.0,
             }],
+            splats: None,
             provenance,
         }
     }
 
-    /// Adds a layer of `channels` zero sums; refuses a name already taken.
-    pub fn add_layer(&mut self, name: &str, channels: &[&str]) -> Option<&mut Layer> {
-        if self.layer(name).is_some() || channels.is_empty() {
+    /// Adds the layer of `aov`; refuses one already there.
+    pub fn add_aov(&mut self, aov: Aov) -> Option<&mut Layer> {
+        if self.layer(aov.name()).is_some() {
             return None;
         }
-        self.layers.push(Layer {
-            name: name.into(),
-            channels: channels.iter().map(|c| c.to_string()).collect(),
-            sums: vec![0.0; channels.len() * self.window.area()],
-        });
+        self.layers.push(Layer::for_aov(aov, self.window.area()));
         self.layers.last_mut()
+    }
+
+    /// Adds the splat sums over the display window.
+    pub fn add_splats(&mut self) {
+        self.splats = Some(Splats::new(self.display.0, self.display.1));
     }
 
     /// The layer called `name`.
@@ -283,107 +161,96 @@ impl Film {
             .then(|| (y - w.y0) as usize * w.width() as usize + (x - w.x0) as usize)
     }
 
-    /// Mean of channel `c` of `layer` at pixel index `i` (0 without finite samples).
+    /// Display pixel of index `i` of the data window.
+    pub fn position(&self, i: usize) -> (u32, u32) {
+        let w = self.window.width() as usize;
+        (
+            self.window.x0 + (i % w) as u32,
+            self.window.y0 + (i / w) as u32,
+        )
+    }
+
+    /// The denominator of `layer` at pixel index `i`.
+    pub fn count(&self, layer: &Layer, i: usize) -> u32 {
+        match &layer.counts {
+            Some(counts) => counts[i],
+            None => self.counts[i],
+        }
+    }
+
+    /// Mean of channel `c` of `layer` at pixel index `i` (the layer's empty
+    /// value without samples); the beauty's mean leaves the splats out.
     pub fn mean(&self, layer: &Layer, i: usize, c: usize) -> f32 {
-        let n = self.counts[i];
+        let n = self.count(layer, i);
         if n == 0 {
-            return 0.0;
+            return layer.empty;
         }
         (layer.sums[i * layer.channels.len() + c] / n as f64) as f32
     }
 
-    /// The beauty means as an image of the data window.
+    /// The splat part of pixel index `i`: its splat sums over the samples
+    /// per pixel held (0 without splats).
+    pub fn splat_value(&self, i: usize) -> [f64; 3] {
+        match &self.splats {
+            None => [0.0; 3],
+            Some(s) => {
+                let (x, y) = self.position(i);
+                let spp = self.provenance.spp_held().max(1) as f64;
+                s.at(x, y).map(|v| v / spp)
+            }
+        }
+    }
+
+    /// The beauty of pixel index `i`: the mean of its finite samples plus
+    /// its splat sum over the samples per pixel held, rounded once to f32.
+    pub fn pixel(&self, i: usize) -> Rgb {
+        let n = self.counts[i];
+        let sums = &self.layers[0].sums[3 * i..3 * i + 3];
+        let mut v = self.splat_value(i);
+        if n > 0 {
+            for c in 0..3 {
+                v[c] += sums[c] / n as f64;
+            }
+        }
+        Rgb::new(v[0] as f32, v[1] as f32, v[2] as f32)
+    }
+
+    /// Variance of the beauty mean of channel `c` at pixel index `i`, from
+    /// the squared samples (None without them or below two samples).
+    pub fn variance(&self, i: usize, c: usize) -> Option<f64> {
+        let squares = self.squares.as_ref()?;
+        variance_of_mean(
+            self.layers[0].sums[3 * i + c],
+            squares[3 * i + c],
+            self.counts[i],
+        )
+    }
+
+    /// The beauty of the data window as an image.
     pub fn beauty_image(&self) -> Image {
-        let beauty = &self.layers[0];
-        let pixels = (0..self.window.area())
-            .map(|i| {
-                Rgb::new(
-                    self.mean(beauty, i, 0),
-                    self.mean(beauty, i, 1),
-                    self.mean(beauty, i, 2),
-                )
-            })
-            .collect();
         Image {
             width: self.window.width() as usize,
             height: self.window.height() as usize,
-            pixels,
+            pixels: (0..self.window.area()).map(|i| self.pixel(i)).collect(),
             spp: self.provenance.spp_held(),
             partial: !self.provenance.complete(),
         }
     }
+
+    /// The means of the AOV layers, one named channel each (EXR names).
+    pub fn aov_channels(&self) -> Vec<NamedChannel> {
+        let mut out = Vec::new();
+        for layer in &self.layers[1..] {
+            for c in 0..layer.channels.len() {
+                let values = (0..self.window.area())
+                    .map(|i| self.mean(layer, i, c))
+                    .collect();
+                out.push((layer.channels[c].clone(), values));
+            }
+        }
+        out
+    }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ranges_parse_format_and_coalesce() {
-        assert_eq!(parse_range("16..32"), Some(SampleRange::new(16, 32)));
-        assert_eq!(parse_range("32..16"), None);
-        assert_eq!(parse_range("5..5"), None);
-        assert_eq!(parse_range("a..4"), None);
-        let mut r = parse_ranges("32..48,0..16,16..20").unwrap();
-        coalesce(&mut r);
-        assert_eq!(format_ranges(&r), "0..20,32..48");
-        assert_eq!(parse_ranges("").unwrap(), vec![]);
-        assert!(SampleRange::new(0, 16).overlaps(&SampleRange::new(15, 20)));
-        assert!(!SampleRange::new(0, 16).overlaps(&SampleRange::new(16, 20)));
-    }
-
-    #[test]
-    fn rects_index_and_overlap() {
-        let film = Film::new(
-            (8, 6),
-            Rect {
-                x0: 2,
-                x1: 5,
-                y0: 1,
-                y1: 3,
-            },
-            Provenance {
-                seed: 0,
-                scene_hash: 0,
-                spp_total: 1,
-                requested: vec![SampleRange::new(0, 1)],
-                held: vec![],
-            },
-        );
-        assert_eq!(film.index(2, 1), Some(0));
-        assert_eq!(film.index(4, 2), Some(5));
-        assert_eq!(film.index(5, 2), None);
-        assert_eq!(film.index(1, 1), None);
-        assert!(!film.provenance.complete());
-        let a = Rect::full(4, 4);
-        let b = Rect {
-            x0: 4,
-            x1: 6,
-            y0: 0,
-            y1: 4,
-        };
-        assert!(!a.overlaps(&b));
-        assert!(Rect::full(8, 8).contains(&b));
-    }
-
-    #[test]
-    fn layers_have_unique_names() {
-        let mut film = Film::new(
-            (2, 2),
-            Rect::full(2, 2),
-            Provenance {
-                seed: 0,
-                scene_hash: 0,
-                spp_total: 1,
-                requested: vec![],
-                held: vec![],
-            },
-        );
-        assert!(film.add_layer("albedo", &["R", "G", "B"]).is_some());
-        assert!(film.add_layer("albedo", &["R"]).is_none());
-        assert!(film.add_layer(BEAUTY, &["R"]).is_none());
-        assert_eq!(film.layer("albedo").unwrap().sums.len(), 12);
-        assert_eq!(film.layer("albedo").unwrap().channel_name(1), "albedo.G");
-        assert_eq!(film.layers[0].channel_name(2), "B");
-    }
-}
+mod tests;

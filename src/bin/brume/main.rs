@@ -45,6 +45,10 @@ struct MergeArgs {
     /// A PNG preview of the merged image.
     #[arg(long)]
     png: Option<PathBuf>,
+    /// Denoise the merged beauty into a `denoised` layer, guided by the merged albedo and normal
+    /// (render the pieces with --denoise; needs a build with `--features denoise`).
+    #[arg(long)]
+    denoise: bool,
 }
 
 #[derive(clap::Args)]
@@ -135,6 +139,7 @@ struct RenderArgs {
     aovs: Option<String>,
     /// Denoise the beauty with Intel Open Image Denoise into a `denoised` layer
     /// (adds the albedo and normal AOVs; needs a build with `--features denoise`).
+    /// A piece of a split render records the albedo and normal only: denoise with `brume merge --denoise`.
     #[arg(long)]
     denoise: bool,
     /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
@@ -351,10 +356,7 @@ fn apply_overrides(
     }
     if args.denoise {
         if !brume::film::denoise::AVAILABLE {
-            return Err(argument(
-                "--denoise",
-                "this brume was built without the `denoise` feature (see docs/outputs.md)",
-            ));
+            return Err(argument("--denoise", brume::film::denoise::UNAVAILABLE));
         }
         use brume::integrator::aov::Aov;
         for aov in [Aov::Albedo, Aov::Normal] {
@@ -442,12 +444,6 @@ fn render_and_write(
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let part =
         brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
-    if args.split.is_piece() && !scene.aovs.is_empty() {
-        return Err(argument(
-            "--aovs",
-            "AOV layers are not supported on split renders (--crop, --samples, --task-count) yet",
-        ));
-    }
     let scene_hash =
         brume::render::provenance::frame_scene_hash(&args.scene, &scene.settings, frame)?;
     check_outputs(exr_path, png_path, inputs)?;
@@ -498,15 +494,20 @@ fn render_and_write(
         return Ok(EXIT_INTERRUPTED);
     }
     out.film.provenance.scene_hash = scene_hash;
-    if scene.aovs.is_empty() {
-        image_io::write_film_exr(exr_path, &out.film)?;
-    } else {
-        let mut layers =
-            brume::render::render_aovs(scene, &scene.aovs, out.image.spp, args.threads);
-        if args.denoise {
-            denoise_layer(&out.image, &mut layers, exr_path)?;
-        }
-        image_io::write_film_exr_with(exr_path, &out.film, &layers)?;
+    let denoised = match args.denoise && !args.split.is_piece() {
+        true => brume::film::denoise::denoise_film(&out.film).map_err(|message| Error::Output {
+            path: exr_path.to_path_buf(),
+            message,
+        })?,
+        false => Vec::new(),
+    };
+    image_io::write_film_exr_with(exr_path, &out.film, &denoised)?;
+    if args.denoise && args.split.is_piece() && !args.quiet {
+        eprintln!(
+            "note: {} holds the albedo and normal for denoising after the merge: \
+             brume merge --denoise",
+            exr_path.display()
+        );
     }
     image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)?;
     if !args.quiet {
@@ -526,7 +527,12 @@ fn render_and_write(
 }
 
 fn run_merge(args: MergeArgs) -> Result<i32> {
-    let merged = brume::film::merge::merge_files(&args.pieces, &args.out, args.png.as_deref())?;
+    let merged = brume::film::merge::merge_files(
+        &args.pieces,
+        &args.out,
+        args.png.as_deref(),
+        args.denoise,
+    )?;
     for note in &merged.notes {
         eprintln!("{note}");
     }
@@ -544,36 +550,6 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
         args.out.display()
     );
     Ok(0)
-}
-
-/// Appends the `denoised.R/G/B` channels, denoised from the beauty, albedo and normal.
-fn denoise_layer(
-    image: &image_io::Image,
-    layers: &mut Vec<image_io::NamedChannel>,
-    exr: &Path,
-) -> Result<()> {
-    let get = |name: &str| -> &[f32] {
-        layers
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
-            .unwrap_or(&[])
-    };
-    let denoised = brume::film::denoise::denoise(
-        image.width,
-        image.height,
-        &image.pixels,
-        [get("albedo.R"), get("albedo.G"), get("albedo.B")],
-        [get("normal.X"), get("normal.Y"), get("normal.Z")],
-    )
-    .map_err(|message| Error::Output {
-        path: exr.to_path_buf(),
-        message,
-    })?;
-    for (name, values) in brume::film::denoise::CHANNELS.iter().zip(denoised) {
-        layers.push((name.to_string(), values));
-    }
-    Ok(())
 }
 
 /// `--aovs a,b,c`: known names, each once; `none` for none.
@@ -742,7 +718,7 @@ fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
 /// allocation mid-render would abort the process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let bytes = brume::render::peak_bytes(w, h);
+    let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, false);
     let limit = brume::render::MAX_PEAK_BYTES;
     let why = if bytes > limit {
         format!("more than brume's limit of {:.1} GB", limit as f64 / 1e9)
@@ -796,6 +772,17 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",
             out.nonfinite_samples
+        );
+    }
+    if let Some(dropped) = out
+        .film
+        .splats
+        .as_ref()
+        .map(|s| s.dropped)
+        .filter(|&d| d > 0)
+    {
+        eprintln!(
+            "warning: {dropped} splats were NaN, infinite or off the image and were left out"
         );
     }
     if out.tracking.capped_rays > 0 {
