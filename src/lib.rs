@@ -24,6 +24,7 @@ pub mod material;
 pub mod math;
 pub mod medium;
 pub mod merge;
+pub mod output_safety;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -2,6 +2,7 @@
 
 use brume::error::{Error, Result};
 use brume::image_io;
+use brume::output_safety::Plan;
 use brume::render::{render_part, RenderOptions};
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
@@ -257,7 +258,11 @@ fn run_compare(args: CompareArgs) -> Result<i32> {
         }
     }
     if let Some(diff) = &args.diff {
-        image_io::check_writable(diff)?;
+        Plan::new("comparison")
+            .input("image A", &args.a)
+            .input("reference B", &args.b)
+            .output("--diff", diff, None)
+            .check()?;
     }
     let (c, a, b) = brume::compare::compare_files(&args.a, &args.b)?;
     print!("{}", c.report());
@@ -296,15 +301,6 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         return frames_cli::run_frames(&args);
     }
     let time_budget = check_render_args(&args)?;
-    let loaded = brume::scene::load_with_inputs(&args.scene)?;
-    for w in &loaded.warnings {
-        eprintln!("warning: {w}");
-    }
-    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
-    let tonemap = apply_overrides(&mut scene, &args)?;
-    if let Some(pixel) = &args.debug_pixel {
-        return debug_pixel(&scene, pixel);
-    }
     let stem = args
         .scene
         .file_stem()
@@ -318,6 +314,24 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         .png
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
+    if args.debug_pixel.is_none() {
+        // Before the scene's volumes are loaded: a refused run does no work.
+        let mut plan = Plan::new("render");
+        brume::scene::inputs::add_to_plan(&mut plan, &args.scene, &[None])?;
+        plan.image_output("--out", &exr_path, None);
+        plan.image_output("--png", &png_path, None);
+        plan.check()?;
+        warn_extensions(&exr_path, &png_path);
+    }
+    let loaded = brume::scene::load_with_inputs(&args.scene)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut scene = loaded.scene;
+    let tonemap = apply_overrides(&mut scene, &args)?;
+    if let Some(pixel) = &args.debug_pixel {
+        return debug_pixel(&scene, pixel);
+    }
     let cancel = install_interrupt_handler();
     let job = Job {
         args: &args,
@@ -326,7 +340,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: &cancel,
     };
-    render_and_write(&job, (&scene, None), &inputs, &exr_path, &png_path)
+    render_and_write(&job, (&scene, None), &exr_path, &png_path)
 }
 
 /// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene; returns the tonemap.
@@ -430,11 +444,11 @@ struct Job<'a> {
     cancel: &'a Arc<AtomicBool>,
 }
 
-/// Renders one image of `scene` (a still, or the given frame) and writes its EXR and PNG; returns the exit code.
+/// Renders one image of `scene` (a still, or the given frame) and writes its
+/// EXR and PNG (paths already checked by the output-safety plan); returns the exit code.
 fn render_and_write(
     job: &Job,
     (scene, frame): (&brume::integrator::Scene, Option<i64>),
-    inputs: &[PathBuf],
     exr_path: &Path,
     png_path: &Path,
 ) -> Result<i32> {
@@ -448,7 +462,6 @@ fn render_and_write(
         ));
     }
     let scene_hash = brume::scene_hash::frame_scene_hash(&args.scene, &scene.settings, frame)?;
-    check_outputs(exr_path, png_path, inputs)?;
     check_memory(scene, &args.scene)?;
     let options = RenderOptions {
         spp: scene.settings.spp,
@@ -457,7 +470,7 @@ fn render_and_write(
         threads: args.threads,
         progress: job.show,
     };
-    let checkpoint = match args.checkpoint {
+    let mut checkpoint = match args.checkpoint {
         Some(t) if !(t.is_finite() && t > 0.0) => {
             return Err(argument(
                 "--checkpoint",
@@ -484,7 +497,14 @@ fn render_and_write(
         }
         None => None,
     };
-    let mut out = render_live(scene, &options, &part, job.cancel, display, checkpoint);
+    let mut out = render_live(
+        scene,
+        &options,
+        &part,
+        job.cancel,
+        display,
+        checkpoint.as_mut(),
+    );
     if out.image.spp == 0 {
         // Only a stop before the first pass finished gets here: an image of
         // 0 samples is black, and must not replace an earlier render.
@@ -496,6 +516,55 @@ fn render_and_write(
         return Ok(EXIT_INTERRUPTED);
     }
     out.film.provenance.scene_hash = scene_hash;
+    let place = if out.image.partial {
+        brume::output_safety::place_partial(exr_path, Some(png_path), out.image.spp)
+    } else {
+        brume::output_safety::Placement {
+            exr: Some(exr_path.to_path_buf()),
+            png: Some(png_path.to_path_buf()),
+            kept: Vec::new(),
+        }
+    };
+    if let (Some(exr), Some(png)) = (&place.exr, &place.png) {
+        write_images(job, scene, &out, exr, png)?;
+        if !args.quiet {
+            report(&out, exr, png);
+        }
+    }
+    if !out.image.partial {
+        if let Some(c) = &mut checkpoint {
+            c.remove_stale();
+        }
+        return Ok(0);
+    }
+    // Said even with --quiet: the caller must know the image is not the full render.
+    match (&place.exr, &place.png) {
+        (Some(exr), Some(png)) => eprintln!(
+            "interrupted: saved the {} spp finished before the stop to {} and {}",
+            out.image.spp,
+            exr.display(),
+            png.display()
+        ),
+        _ => eprintln!(
+            "interrupted: the {} spp finished before the stop were not saved",
+            out.image.spp
+        ),
+    }
+    if let Some(note) = place.note() {
+        eprintln!("note: {note}");
+    }
+    Ok(EXIT_INTERRUPTED)
+}
+
+/// Writes the render's EXR (with its AOV layers) and PNG preview.
+fn write_images(
+    job: &Job,
+    scene: &brume::integrator::Scene,
+    out: &brume::render::RenderOutput,
+    exr_path: &Path,
+    png_path: &Path,
+) -> Result<()> {
+    let args = job.args;
     if scene.aovs.is_empty() {
         image_io::write_film_exr(exr_path, &out.film)?;
     } else {
@@ -506,21 +575,7 @@ fn render_and_write(
         }
         image_io::write_film_exr_with(exr_path, &out.film, &layers)?;
     }
-    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)?;
-    if !args.quiet {
-        report(&out, exr_path, png_path);
-    }
-    if out.image.partial {
-        // Said even with --quiet: the caller must know the image is not the full render.
-        eprintln!(
-            "interrupted: saved the {} spp finished before the stop to {} and {}",
-            out.image.spp,
-            exr_path.display(),
-            png_path.display()
-        );
-        return Ok(EXIT_INTERRUPTED);
-    }
-    Ok(0)
+    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)
 }
 
 fn run_merge(args: MergeArgs) -> Result<i32> {
@@ -530,8 +585,12 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
     }
     let p = &merged.film.provenance;
     let (w, h) = merged.film.display;
+    let written = match &merged.written {
+        Some(path) => path.display().to_string(),
+        None => "not written".into(),
+    };
     eprintln!(
-        "merged {} pieces into {w}x{h} at {} spp{} -> {}",
+        "merged {} pieces into {w}x{h} at {} spp{} -> {written}",
         args.pieces.len(),
         p.spp_held(),
         if p.complete() {
@@ -539,9 +598,9 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
         } else {
             " (incomplete: some pieces were interrupted)"
         },
-        args.out.display()
     );
-    Ok(0)
+    // Nothing saved (both files hold better images, said in a note above): not a success.
+    Ok(if merged.written.is_some() { 0 } else { 1 })
 }
 
 /// Appends the `denoised.R/G/B` channels, denoised from the beauty, albedo and normal.
@@ -607,7 +666,7 @@ fn render_live(
     part: &brume::render::Part,
     cancel: &AtomicBool,
     mut display: Option<brume::display::Display>,
-    mut checkpoint: Option<brume::checkpoint::Checkpoint>,
+    mut checkpoint: Option<&mut brume::checkpoint::Checkpoint>,
 ) -> brume::render::RenderOutput {
     if display.is_none() && checkpoint.is_none() {
         return render_part(scene, options, part, cancel, None);
@@ -692,35 +751,8 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
     Ok(0)
 }
 
-/// The output rules, checked before rendering: each output a writable file
-/// (see `image_io::check_writable`), the two outputs different files, and
-/// neither one an input of the render; a wrong extension is only a warning.
-fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
-    image_io::check_writable(exr)?;
-    image_io::check_writable(png)?;
-    let (exr_c, png_c) = (image_io::canonical(exr), image_io::canonical(png));
-    if exr_c == png_c {
-        return Err(argument(
-            "--png",
-            &format!(
-                "{} is the same file as the EXR output {}; give two different files",
-                png.display(),
-                exr.display()
-            ),
-        ));
-    }
-    for (flag, out, out_c) in [("--out", exr, &exr_c), ("--png", png, &png_c)] {
-        if let Some(input) = inputs.iter().find(|i| image_io::canonical(i) == *out_c) {
-            return Err(argument(
-                flag,
-                &format!(
-                    "{} is an input of the render ({}); brume never overwrites its inputs",
-                    out.display(),
-                    input.display()
-                ),
-            ));
-        }
-    }
+/// A wrong extension is only a warning: the format follows the flag, not the name.
+fn warn_extensions(exr: &Path, png: &Path) {
     for (flag, out, ext) in [("--out", exr, "exr"), ("--png", png, "png")] {
         let matches = out
             .extension()
@@ -733,7 +765,6 @@ fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
             );
         }
     }
-    Ok(())
 }
 
 /// Refuses an image too large for this machine before rendering: a failed

@@ -25,8 +25,11 @@ use std::path::{Path, PathBuf};
 pub struct Merged {
     /// The film of the whole render.
     pub film: Film,
-    /// One line per interrupted piece.
+    /// One line per interrupted piece (and where a partial merge went).
     pub notes: Vec<String>,
+    /// Where the merged EXR was written (`None` before writing, or when a
+    /// partial merge could replace neither file, see `merge_files`).
+    pub written: Option<PathBuf>,
 }
 
 fn refuse(message: String) -> Error {
@@ -66,7 +69,11 @@ pub fn merge(pieces: &[(PathBuf, Film)]) -> Result<Merged> {
             )
         })
         .collect();
-    Ok(Merged { film, notes })
+    Ok(Merged {
+        film,
+        notes,
+        written: None,
+    })
 }
 
 fn or_none(ranges: &[SampleRange]) -> String {
@@ -241,34 +248,72 @@ fn add(film: &mut Film, piece: &Film) {
     }
 }
 
-/// Reads the pieces, merges them and writes the merged film to `out` (and a PNG preview to `png`).
+/// Reads the pieces, merges them and writes the merged film to `out` (and a
+/// PNG preview to `png`). The output-safety rule is checked first: no
+/// output may be a piece or the other output. A merge of interrupted pieces
+/// is a partial image and follows `output_safety::place_partial`; the
+/// returned `written` says where the EXR went (`None`: not written).
 pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result<Merged> {
-    crate::image_io::check_writable(out)?;
-    if let Some(png) = png {
-        crate::image_io::check_writable(png)?;
-    }
-    if let Some(absent) = pieces.iter().find(|p| !p.exists()) {
-        return Err(refuse(format!(
-            "missing piece: {} does not exist",
-            absent.display()
-        )));
-    }
-    let mut seen = std::collections::HashSet::new();
+    let mut plan = crate::output_safety::Plan::new("merge");
     for p in pieces {
-        if !seen.insert(p.canonicalize().unwrap_or_else(|_| p.clone())) {
-            return Err(refuse(format!("{} is named twice", p.display())));
-        }
+        plan.input("piece", p);
     }
+    plan.image_output("-o", out, None);
+    if let Some(png) = png {
+        plan.image_output("--png", png, None);
+    }
+    plan.check()?;
+    check_pieces(pieces)?;
     let films = pieces
         .iter()
         .map(|p| Ok((p.clone(), crate::image_io::read_film_exr(p)?)))
         .collect::<Result<Vec<_>>>()?;
-    let merged = merge(&films)?;
-    crate::image_io::write_film_exr(out, &merged.film)?;
-    if let Some(png) = png {
+    let mut merged = merge(&films)?;
+    let place = match merged.film.provenance.complete() {
+        true => crate::output_safety::Placement {
+            exr: Some(out.to_path_buf()),
+            png: png.map(Path::to_path_buf),
+            kept: Vec::new(),
+        },
+        false => {
+            let spp = merged.film.provenance.spp_held();
+            crate::output_safety::place_partial(out, png, spp)
+        }
+    };
+    if let Some(exr) = &place.exr {
+        crate::image_io::write_film_exr(exr, &merged.film)?;
+    }
+    if let Some(png) = &place.png {
         crate::image_io::write_png(png, &merged.film.beauty_image(), 0.0)?;
     }
+    merged
+        .notes
+        .extend(place.note().map(|n| format!("note: {n}")));
+    merged.written = place.exr;
     Ok(merged)
+}
+
+/// Refuses, before reading any, a piece that is missing, not a regular file
+/// or named twice (also through another spelling, a link or a hard link).
+fn check_pieces(pieces: &[PathBuf]) -> Result<()> {
+    for p in pieces {
+        if !p.exists() {
+            return Err(refuse(format!(
+                "missing piece: {} does not exist",
+                p.display()
+            )));
+        }
+        if let Err(problem) = crate::error::regular_file(p) {
+            return Err(refuse(format!("piece {}: {problem}", p.display())));
+        }
+    }
+    let mut seen = std::collections::HashSet::new();
+    for p in pieces {
+        if !seen.insert(crate::output_safety::identity(p)) {
+            return Err(refuse(format!("{} is named twice", p.display())));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
