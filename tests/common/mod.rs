@@ -9,8 +9,10 @@ use brume::math::Ray;
 use brume::sampling::Sampler;
 use std::path::Path;
 
+pub mod cli;
 pub mod data;
 pub mod k_sigma;
+pub mod paths;
 pub mod stats;
 
 #[allow(unused_imports)]
