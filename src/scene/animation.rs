@@ -158,6 +158,12 @@ pub fn resolve_frame(
 ) -> Result<PathBuf, String> {
     let wanted = frame + offset;
     let path = substitute(pattern, wanted);
+    if path.exists() {
+        // There but not readable (a FIFO, device or folder): say what it is, not "missing".
+        if let Err(problem) = crate::error::regular_file(&path) {
+            return Err(format!("frame {frame}: {}: {problem}", path.display()));
+        }
+    }
     if path.is_file() || missing == MissingFrames::Error {
         return if path.is_file() {
             Ok(path)
