@@ -121,13 +121,9 @@ fn check_sequence_outputs(
     png_pattern: &Path,
 ) -> Result<()> {
     let mut plan = brume::output_safety::Plan::new("render");
-    let all: Vec<Option<i64>> = frames.iter().map(|&f| Some(f)).collect();
-    brume::scene::inputs::add_to_plan(&mut plan, &args.scene, &all)?;
-    for &frame in frames {
-        let context = format!("frame {frame}");
-        plan.image_output("--out", &substitute(exr_pattern, frame), Some(&context));
-        plan.image_output("--png", &substitute(png_pattern, frame), Some(&context));
-    }
+    brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
+    plan.image_output_frames("--out", exr_pattern, frames);
+    plan.image_output_frames("--png", png_pattern, frames);
     plan.check()?;
     warn_extensions(exr_pattern, png_pattern);
     Ok(())

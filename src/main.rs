@@ -317,7 +317,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if args.debug_pixel.is_none() {
         // Before the scene's volumes are loaded: a refused run does no work.
         let mut plan = Plan::new("render");
-        brume::scene::inputs::add_to_plan(&mut plan, &args.scene, &[None])?;
+        brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
         plan.image_output("--out", &exr_path, None);
         plan.image_output("--png", &png_path, None);
         plan.check()?;

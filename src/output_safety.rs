@@ -21,9 +21,11 @@ mod partial;
 mod writable;
 
 pub use partial::{partial_path, place_partial, Placement};
-pub use writable::{canonical, destination};
+pub use writable::destination;
+use writable::Folders;
 
 use crate::error::{Error, Result};
+use crate::scene::animation::substitute;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -43,43 +45,61 @@ pub enum Identity {
 
 /// The identity of the file `path` names (following symbolic links).
 pub fn identity(path: &Path) -> Identity {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        if let Ok(m) = std::fs::metadata(path) {
-            return Identity::File {
-                dev: m.dev(),
-                ino: m.ino(),
-            };
+    Folders::default().identity(path)
+}
+
+/// A file the run reads, with how the user (or the scene) named it.
+#[derive(Clone, Debug)]
+struct Input {
+    /// The key or role that names it (`medium[0].file`, `piece`).
+    what: String,
+    /// The path as written (resolved against the scene's folder).
+    path: PathBuf,
+}
+
+/// Files the run may write: one, or one per frame of a pattern.
+#[derive(Clone, Debug)]
+enum Outputs {
+    /// One file; `context` is shown after its path (`frame 3`).
+    One {
+        flag: String,
+        path: PathBuf,
+        context: Option<String>,
+    },
+    /// `pattern` with each of `frames` written in, and beside each the
+    /// file a partial image of that frame may go to.
+    Frames {
+        flag: String,
+        pattern: PathBuf,
+        frames: Vec<i64>,
+    },
+}
+
+/// One output file of the run, as messages show it.
+struct Out<'a> {
+    flag: &'a str,
+    path: PathBuf,
+    context: Option<String>,
+}
+
+impl Out<'_> {
+    fn show(&self) -> String {
+        match &self.context {
+            Some(c) => format!("{} ({c})", self.path.display()),
+            None => self.path.display().to_string(),
         }
     }
-    Identity::Path(canonical(path))
 }
 
-/// A file of the run, with how the user named it.
-#[derive(Clone, Debug)]
-struct Entry {
-    /// The flag (`--out`) or key (`medium[0].file`) that names it.
-    who: String,
-    /// The path as the user (or the scene) wrote it.
-    path: PathBuf,
-    /// Which frame, or why brume may write it (` (frame 3)`), with its leading space.
-    context: String,
-}
-
-impl Entry {
-    fn show(&self) -> String {
-        format!("{}{}", self.path.display(), self.context)
-    }
-}
+const BESIDE: &str = "where a partial image of it may go";
 
 /// Every file one run reads and may write, checked together by [`Plan::check`].
 #[derive(Debug)]
 pub struct Plan {
     run: String,
-    inputs: Vec<Entry>,
-    sequences: Vec<Entry>,
-    outputs: Vec<Entry>,
+    inputs: Vec<Input>,
+    sequences: Vec<Input>,
+    outputs: Vec<Outputs>,
 }
 
 impl Plan {
@@ -93,35 +113,42 @@ impl Plan {
         }
     }
 
-    /// A file the run reads: `what` names it (`piece`, `medium[0].file of frame 5`).
+    /// A file the run reads: `what` names it (`piece`, `medium[0].file`).
+    /// A path given again (each frame names the scene) is kept once.
     pub fn input(&mut self, what: &str, path: &Path) -> &mut Plan {
-        self.inputs.push(Entry {
-            who: what.into(),
-            path: path.to_path_buf(),
-            context: String::new(),
-        });
+        if !self.inputs.iter().any(|i| i.path == path) {
+            self.inputs.push(Input {
+                what: what.into(),
+                path: path.to_path_buf(),
+            });
+        }
         self
     }
 
-    /// A frame pattern (`smoke.####.vdb`) the run reads from: no output may add a file to it.
+    /// A frame pattern (`smoke.####.vdb`) the run reads from: every file of
+    /// the sequence on disk is an input (any frame may read it, through
+    /// `frame_offset` or `missing_frames`), and no output may add a frame to it.
     pub fn input_sequence(&mut self, what: &str, pattern: &Path) -> &mut Plan {
-        if !self.sequences.iter().any(|e| e.path == pattern) {
-            self.sequences.push(Entry {
-                who: what.into(),
-                path: pattern.to_path_buf(),
-                context: String::new(),
-            });
+        if self.sequences.iter().any(|e| e.path == pattern) {
+            return self;
         }
+        for file in crate::scene::animation::sequence_files(pattern) {
+            self.input(what, &file);
+        }
+        self.sequences.push(Input {
+            what: what.into(),
+            path: pattern.to_path_buf(),
+        });
         self
     }
 
     /// A file the run may write, named by `flag`; `context` is shown after
     /// the path in messages (e.g. `frame 3`).
     pub fn output(&mut self, flag: &str, path: &Path, context: Option<&str>) -> &mut Plan {
-        self.outputs.push(Entry {
-            who: flag.into(),
+        self.outputs.push(Outputs::One {
+            flag: flag.into(),
             path: path.to_path_buf(),
-            context: context.map(|c| format!(" ({c})")).unwrap_or_default(),
+            context: context.map(String::from),
         });
         self
     }
@@ -131,96 +158,163 @@ impl Plan {
     pub fn image_output(&mut self, flag: &str, path: &Path, context: Option<&str>) -> &mut Plan {
         self.output(flag, path, context);
         let beside = match context {
-            Some(c) => format!("{c}, where a partial image of it may go"),
-            None => "where a partial image of it may go".to_string(),
+            Some(c) => format!("{c}, {BESIDE}"),
+            None => BESIDE.to_string(),
         };
         self.output(flag, &partial_path(path), Some(&beside))
     }
 
-    /// Refuses the run (exit code 2, one line naming the flag and both
-    /// paths) if an output cannot be written, is an input, would add a file
-    /// to an input sequence, or is the same file as another output.
-    pub fn check(&self) -> Result<()> {
-        let mut probed = std::collections::HashSet::new();
-        for out in &self.outputs {
-            writable::check(&out.path, &mut probed)
-                .map_err(|problem| refuse(out, format!("{}: {problem}", out.show())))?;
+    /// [`Plan::image_output`] for each of `frames` of the frame pattern
+    /// `pattern`, kept as the pattern (a long sequence costs no memory per frame).
+    pub fn image_output_frames(&mut self, flag: &str, pattern: &Path, frames: &[i64]) -> &mut Plan {
+        self.outputs.push(Outputs::Frames {
+            flag: flag.into(),
+            pattern: pattern.to_path_buf(),
+            frames: frames.to_vec(),
+        });
+        self
+    }
+
+    /// Every output of the run in order, `(group, index)` naming each.
+    fn each_output(&self, mut f: impl FnMut(Out, (usize, usize)) -> Result<()>) -> Result<()> {
+        for (g, outputs) in self.outputs.iter().enumerate() {
+            let n = match outputs {
+                Outputs::One { .. } => 1,
+                Outputs::Frames { frames, .. } => 2 * frames.len(),
+            };
+            for k in 0..n {
+                f(self.nth(g, k), (g, k))?;
+            }
         }
-        let ids: Vec<Identity> = self.outputs.iter().map(|o| identity(&o.path)).collect();
+        Ok(())
+    }
+
+    /// Output `k` of group `g`.
+    fn nth(&self, g: usize, k: usize) -> Out<'_> {
+        match &self.outputs[g] {
+            Outputs::One {
+                flag,
+                path,
+                context,
+            } => Out {
+                flag,
+                path: path.clone(),
+                context: context.clone(),
+            },
+            Outputs::Frames {
+                flag,
+                pattern,
+                frames,
+            } => {
+                let frame = frames[k / 2];
+                let path = substitute(pattern, frame);
+                let (path, context) = match k % 2 {
+                    0 => (path, format!("frame {frame}")),
+                    _ => (partial_path(&path), format!("frame {frame}, {BESIDE}")),
+                };
+                Out {
+                    flag,
+                    path,
+                    context: Some(context),
+                }
+            }
+        }
+    }
+
+    /// Refuses the run (exit code 2, one line naming the flag and both
+    /// paths) at the first output, in order, that cannot be written, is an
+    /// input, would add a frame to an input sequence, or is the same file as
+    /// an earlier output. Each output costs a few `stat` calls and 16 bytes.
+    pub fn check(&self) -> Result<()> {
+        let mut folders = Folders::default();
         let mut inputs = HashMap::new();
         for input in &self.inputs {
-            inputs.entry(identity(&input.path)).or_insert(input);
+            inputs.entry(folders.identity(&input.path)).or_insert(input);
         }
-        for (out, id) in self.outputs.iter().zip(&ids) {
-            if let Some(input) = inputs.get(id) {
+        let sequences: Vec<(PathBuf, &Input)> = self
+            .sequences
+            .iter()
+            .filter_map(|s| Some((folders.canonical(folder_of(&s.path))?, s)))
+            .collect();
+        let mut seen: HashMap<u64, (usize, usize)> = HashMap::new();
+        self.each_output(|out, at| {
+            let id = folders
+                .output(&out.path)
+                .map_err(|problem| refuse(&out, format!("{}: {problem}", out.show())))?;
+            if let Some(input) = inputs.get(&id) {
                 return Err(refuse(
-                    out,
+                    &out,
                     format!(
                         "{} is an input of the {} ({}: {}); brume never overwrites its inputs",
                         out.show(),
                         self.run,
-                        input.who,
+                        input.what,
                         input.path.display()
                     ),
                 ));
             }
-        }
-        self.check_sequences()?;
-        let mut seen: HashMap<&Identity, &Entry> = HashMap::new();
-        for (out, id) in self.outputs.iter().zip(&ids) {
-            if let Some(first) = seen.insert(id, out) {
-                return Err(refuse(
-                    out,
-                    format!(
-                        "{} is the same file as {} {}; give each output its own file",
-                        out.show(),
-                        first.who,
-                        first.show()
-                    ),
-                ));
+            if !sequences.is_empty() {
+                let dest = match &id {
+                    Identity::Path(p) => p.clone(),
+                    Identity::File { .. } => folders.file(&destination(&out.path)),
+                };
+                check_sequences(&out, &dest, &sequences)?;
             }
-        }
-        Ok(())
-    }
-
-    /// Refuses an output whose name is a frame of an input sequence.
-    fn check_sequences(&self) -> Result<()> {
-        for seq in &self.sequences {
-            let Some(folder) = seq.path.parent().map(canonical_folder) else {
-                continue;
-            };
-            for out in &self.outputs {
-                let dest = canonical(&out.path);
-                let in_folder = dest.parent() == Some(folder.as_path());
-                let name = dest.file_name().map(|n| n.to_string_lossy().to_string());
-                if in_folder && name.is_some_and(|n| frame_of(&seq.path, &n)) {
+            // A fingerprint per output, the identity compared again on a match.
+            let print = fingerprint(&id);
+            if let Some(&(g, k)) = seen.get(&print) {
+                let first = self.nth(g, k);
+                if folders.output(&first.path).ok() == Some(id) {
                     return Err(refuse(
-                        out,
+                        &out,
                         format!(
-                            "{} would be a frame of the sequence {} that {} reads; \
-                             brume never writes into its input sequences",
+                            "{} is the same file as {} {}; give each output its own file",
                             out.show(),
-                            seq.path.display(),
-                            seq.who
+                            first.flag,
+                            first.show()
                         ),
                     ));
                 }
             }
-        }
-        Ok(())
+            seen.insert(print, at);
+            Ok(())
+        })
     }
 }
 
-/// The absolute form of a folder (`.` for an empty one).
-fn canonical_folder(folder: &Path) -> PathBuf {
-    let folder = if folder.as_os_str().is_empty() {
-        Path::new(".")
-    } else {
-        folder
-    };
-    folder
-        .canonicalize()
-        .unwrap_or_else(|_| folder.to_path_buf())
+/// Refuses an output (canonical path `dest`) whose name is a frame of an input sequence.
+fn check_sequences(out: &Out, dest: &Path, sequences: &[(PathBuf, &Input)]) -> Result<()> {
+    let name = dest.file_name().map(|n| n.to_string_lossy().to_string());
+    for (folder, seq) in sequences {
+        let named = name.as_deref().is_some_and(|n| frame_of(&seq.path, n));
+        if named && dest.parent() == Some(folder.as_path()) {
+            return Err(refuse(
+                out,
+                format!(
+                    "{} would be a frame of the sequence {} that {} reads; \
+                     brume never writes into its input sequences",
+                    out.show(),
+                    seq.path.display(),
+                    seq.what
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn fingerprint(id: &Identity) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    id.hash(&mut h);
+    h.finish()
+}
+
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
 }
 
 /// Whether the file name `name` is a frame of `pattern`'s sequence: the
@@ -247,9 +341,9 @@ fn frame_of(pattern: &Path, name: &str) -> bool {
     })
 }
 
-fn refuse(out: &Entry, message: String) -> Error {
+fn refuse(out: &Out, message: String) -> Error {
     Error::Argument {
-        argument: out.who.clone(),
+        argument: out.flag.to_string(),
         message,
     }
 }

@@ -187,3 +187,30 @@ fn a_partial_image_replaces_only_nothing_or_a_lesser_partial() {
     write_exr(&beside_exr, &image(4, true)).unwrap();
     assert_eq!(place_partial(&exr, None, 8).exr, Some(beside_exr));
 }
+
+#[test]
+fn every_file_of_an_input_sequence_is_an_input_whatever_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("v.0002.vdb"), b"frame 2").unwrap();
+    std::fs::hard_link(d.join("v.0002.vdb"), d.join("alias.exr")).unwrap();
+    let mut plan = Plan::new("render");
+    plan.input_sequence("medium[0].file", &d.join("v.####.vdb"));
+    plan.image_output_frames("--out", &d.join("alias.exr"), &[1]);
+    let e = message(&plan);
+    assert!(
+        e.contains("alias.exr (frame 1) is an input of the render (medium[0].file: ")
+            && e.contains("v.0002.vdb)"),
+        "{e}"
+    );
+    // Frames of one pattern that a link makes one file.
+    std::os::unix::fs::symlink("o.0002.exr", d.join("o.0001.exr")).unwrap();
+    let mut plan = Plan::new("render");
+    plan.image_output_frames("--out", &d.join("o.####.exr"), &[1, 2, 3]);
+    let e = message(&plan);
+    assert!(
+        e.contains("o.0002.exr (frame 2) is the same file as --out ")
+            && e.contains("o.0001.exr (frame 1)"),
+        "{e}"
+    );
+}
