@@ -91,7 +91,7 @@ impl Out<'_> {
     }
 }
 
-const BESIDE: &str = "where a partial image of it may go";
+const BESIDE: &str = "where a partial image goes beside";
 
 /// Every file one run reads and may write, checked together by [`Plan::check`].
 #[derive(Debug)]
@@ -158,8 +158,8 @@ impl Plan {
     pub fn image_output(&mut self, flag: &str, path: &Path, context: Option<&str>) -> &mut Plan {
         self.output(flag, path, context);
         let beside = match context {
-            Some(c) => format!("{c}, {BESIDE}"),
-            None => BESIDE.to_string(),
+            Some(c) => format!("{c}, {BESIDE} {}", path.display()),
+            None => format!("{BESIDE} {}", path.display()),
         };
         self.output(flag, &partial_path(path), Some(&beside))
     }
@@ -210,7 +210,10 @@ impl Plan {
                 let path = substitute(pattern, frame);
                 let (path, context) = match k % 2 {
                     0 => (path, format!("frame {frame}")),
-                    _ => (partial_path(&path), format!("frame {frame}, {BESIDE}")),
+                    _ => {
+                        let beside = format!("frame {frame}, {BESIDE} {}", path.display());
+                        (partial_path(&path), beside)
+                    }
                 };
                 Out {
                     flag,

@@ -87,7 +87,7 @@ fn two_outputs_on_one_file_are_refused() {
     let mut plan = Plan::new("render");
     plan.image_output("--out", &d.join("r.exr"), None);
     plan.output("--png", &d.join("r.partial.exr"), None);
-    assert!(message(&plan).contains("where a partial image of it may go"));
+    assert!(message(&plan).contains("r.partial.exr (where a partial image goes beside "));
 }
 
 #[test]
