@@ -516,23 +516,31 @@ fn render_and_write(
         return Ok(EXIT_INTERRUPTED);
     }
     out.film.provenance.scene_hash = scene_hash;
-    let place = if out.image.partial {
-        brume::output_safety::place_partial(exr_path, Some(png_path), out.image.spp)
-    } else {
-        brume::output_safety::Placement {
-            exr: Some(exr_path.to_path_buf()),
-            png: Some(png_path.to_path_buf()),
-            kept: Vec::new(),
-        }
+    save(job, scene, &out, (exr_path, png_path), checkpoint.as_mut())
+}
+
+/// Writes a finished or stopped render: a stopped one as a partial image,
+/// beside a better one if need be (`output_safety::place_partial`); returns the exit code.
+fn save(
+    job: &Job,
+    scene: &brume::integrator::Scene,
+    out: &brume::render::RenderOutput,
+    (exr_path, png_path): (&Path, &Path),
+    checkpoint: Option<&mut brume::checkpoint::Checkpoint>,
+) -> Result<i32> {
+    use brume::output_safety::{place_partial, Placement};
+    let place = match out.image.partial {
+        true => place_partial(exr_path, Some(png_path), out.image.spp),
+        false => Placement::requested(exr_path, Some(png_path)),
     };
     if let (Some(exr), Some(png)) = (&place.exr, &place.png) {
-        write_images(job, scene, &out, exr, png)?;
-        if !args.quiet {
-            report(&out, exr, png);
+        write_images(job, scene, out, exr, png)?;
+        if !job.args.quiet {
+            report(out, exr, png);
         }
     }
     if !out.image.partial {
-        if let Some(c) = &mut checkpoint {
+        if let Some(c) = checkpoint {
             c.remove_stale();
         }
         return Ok(0);

@@ -270,11 +270,7 @@ pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result
         .collect::<Result<Vec<_>>>()?;
     let mut merged = merge(&films)?;
     let place = match merged.film.provenance.complete() {
-        true => crate::output_safety::Placement {
-            exr: Some(out.to_path_buf()),
-            png: png.map(Path::to_path_buf),
-            kept: Vec::new(),
-        },
+        true => crate::output_safety::Placement::requested(out, png),
         false => {
             let spp = merged.film.provenance.spp_held();
             crate::output_safety::place_partial(out, png, spp)

@@ -32,6 +32,15 @@ pub struct Placement {
 }
 
 impl Placement {
+    /// The requested files, for a complete image (which replaces what is there).
+    pub fn requested(exr: &Path, png: Option<&Path>) -> Placement {
+        Placement {
+            exr: Some(exr.to_path_buf()),
+            png: png.map(Path::to_path_buf),
+            kept: Vec::new(),
+        }
+    }
+
     /// One line for the user about the kept files, if any were kept.
     pub fn note(&self) -> Option<String> {
         if self.kept.is_empty() {
