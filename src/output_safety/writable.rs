@@ -133,11 +133,7 @@ impl Folders {
             return Err(format!("folder {} does not exist", written.display()));
         };
         if !self.probed.contains(&folder) {
-            let probe = folder.join(format!(".brume-probe-{}", std::process::id()));
-            if let Err(e) = std::fs::File::create(&probe) {
-                return Err(format!("cannot be written: {e}"));
-            }
-            let _ = std::fs::remove_file(&probe);
+            probe(&folder).map_err(|e| format!("cannot be written: {e}"))?;
             self.probed.insert(folder.clone());
         }
         #[cfg(unix)]
@@ -149,4 +145,22 @@ impl Folders {
             None => dest,
         }))
     }
+}
+
+/// Creates and removes a new file in `folder`; never opens an existing one.
+fn probe(folder: &Path) -> std::io::Result<()> {
+    let pid = std::process::id();
+    for n in 0..100 {
+        let path = folder.join(format!(".brume-probe-{pid}-{n}"));
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&path)
+        {
+            Ok(_) => return std::fs::remove_file(&path),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
+    Err(std::io::Error::other("no free name for a probe file"))
 }
