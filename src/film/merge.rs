@@ -35,8 +35,11 @@ use std::path::{Path, PathBuf};
 pub struct Merged {
     /// The film of the whole render.
     pub film: Film,
-    /// One line per interrupted piece.
+    /// One line per interrupted piece (and where a partial merge went).
     pub notes: Vec<String>,
+    /// Where the merged EXR was written (`None` before writing, or when a
+    /// partial merge could replace neither file, see `render::merge_pieces::merge_files`).
+    pub written: Option<PathBuf>,
 }
 
 fn refuse(message: String) -> Error {
@@ -78,7 +81,11 @@ pub fn merge(pieces: &[(PathBuf, Film)]) -> Result<Merged> {
             )
         })
         .collect();
-    Ok(Merged { film, notes })
+    Ok(Merged {
+        film,
+        notes,
+        written: None,
+    })
 }
 
 fn or_none(ranges: &[SampleRange]) -> String {
@@ -263,58 +270,6 @@ fn add(film: &mut Film, piece: &Film) {
     if let (Some(to), Some(from)) = (film.splats.as_mut(), piece.splats.as_ref()) {
         to.add_sums(from);
     }
-}
-
-/// Reads the pieces, merges them and writes the merged film to `out` (and a
-/// PNG preview to `png`); with `denoise`, adds the denoised beauty, guided by
-/// the merged albedo and normal layers (see `denoise::denoise_film`).
-pub fn merge_files(
-    pieces: &[PathBuf],
-    out: &Path,
-    png: Option<&Path>,
-    denoise: bool,
-) -> Result<Merged> {
-    if denoise && !crate::film::denoise::AVAILABLE {
-        return Err(Error::Argument {
-            argument: "--denoise".into(),
-            message: crate::film::denoise::UNAVAILABLE.into(),
-        });
-    }
-    crate::film::image_io::check_writable(out)?;
-    if let Some(png) = png {
-        crate::film::image_io::check_writable(png)?;
-    }
-    if let Some(absent) = pieces.iter().find(|p| !p.exists()) {
-        return Err(refuse(format!(
-            "missing piece: {} does not exist",
-            absent.display()
-        )));
-    }
-    let mut seen = std::collections::HashSet::new();
-    for p in pieces {
-        if !seen.insert(p.canonicalize().unwrap_or_else(|_| p.clone())) {
-            return Err(refuse(format!("{} is named twice", p.display())));
-        }
-    }
-    let films = pieces
-        .iter()
-        .map(|p| Ok((p.clone(), crate::film::image_io::read_film_exr(p)?)))
-        .collect::<Result<Vec<_>>>()?;
-    let merged = merge(&films)?;
-    let extra = match denoise {
-        true => {
-            crate::film::denoise::denoise_film(&merged.film).map_err(|message| Error::Argument {
-                argument: "--denoise".into(),
-                message,
-            })?
-        }
-        false => Vec::new(),
-    };
-    crate::film::image_io::write_film_exr_with(out, &merged.film, &extra)?;
-    if let Some(png) = png {
-        crate::film::image_io::write_png(png, &merged.film.beauty_image(), 0.0)?;
-    }
-    Ok(merged)
 }
 
 #[cfg(test)]

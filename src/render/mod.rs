@@ -12,6 +12,8 @@ pub mod checkpoint;
 pub mod display;
 mod estimator;
 mod group;
+pub mod merge_pieces;
+pub mod output_safety;
 pub mod provenance;
 mod run;
 pub mod split;

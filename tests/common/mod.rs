@@ -14,6 +14,7 @@ use std::path::Path;
 pub mod cli;
 pub mod data;
 pub mod k_sigma;
+pub mod paths;
 pub mod scene_text;
 pub mod stats;
 

@@ -2,6 +2,7 @@
 
 use brume::error::{Error, Result};
 use brume::film::image_io;
+use brume::render::output_safety::Plan;
 use brume::render::{render_part, RenderOptions};
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
@@ -262,7 +263,11 @@ fn run_compare(args: CompareArgs) -> Result<i32> {
         }
     }
     if let Some(diff) = &args.diff {
-        image_io::check_writable(diff)?;
+        Plan::new("comparison")
+            .input("image A", &args.a)
+            .input("reference B", &args.b)
+            .output("--diff", diff, None)
+            .check()?;
     }
     let (c, a, b) = brume::film::compare::compare_files(&args.a, &args.b)?;
     print!("{}", c.report());
@@ -301,15 +306,6 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         return frames_cli::run_frames(&args);
     }
     let time_budget = check_render_args(&args)?;
-    let loaded = brume::scene::load_with_inputs(&args.scene)?;
-    for w in &loaded.warnings {
-        eprintln!("warning: {w}");
-    }
-    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
-    let tonemap = apply_overrides(&mut scene, &args)?;
-    if let Some(pixel) = &args.debug_pixel {
-        return debug_pixel(&scene, pixel);
-    }
     let stem = args
         .scene
         .file_stem()
@@ -323,6 +319,24 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         .png
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
+    if args.debug_pixel.is_none() {
+        // Before the scene's volumes are loaded: a refused run does no work.
+        let mut plan = Plan::new("render");
+        brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
+        plan.image_output("--out", &exr_path, None);
+        plan.image_output("--png", &png_path, None);
+        plan.check()?;
+        warn_extensions(&exr_path, &png_path);
+    }
+    let loaded = brume::scene::load_with_inputs(&args.scene)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut scene = loaded.scene;
+    let tonemap = apply_overrides(&mut scene, &args)?;
+    if let Some(pixel) = &args.debug_pixel {
+        return debug_pixel(&scene, pixel);
+    }
     let cancel = install_interrupt_handler();
     let job = Job {
         args: &args,
@@ -331,7 +345,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: &cancel,
     };
-    render_and_write(&job, (&scene, None), &inputs, &exr_path, &png_path)
+    render_and_write(&job, (&scene, None), &exr_path, &png_path)
 }
 
 /// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene; returns the tonemap.
@@ -432,11 +446,11 @@ struct Job<'a> {
     cancel: &'a Arc<AtomicBool>,
 }
 
-/// Renders one image of `scene` (a still, or the given frame) and writes its EXR and PNG; returns the exit code.
+/// Renders one image of `scene` (a still, or the given frame) and writes its
+/// EXR and PNG (paths already checked by the output-safety plan); returns the exit code.
 fn render_and_write(
     job: &Job,
     (scene, frame): (&brume::integrator::Scene, Option<i64>),
-    inputs: &[PathBuf],
     exr_path: &Path,
     png_path: &Path,
 ) -> Result<i32> {
@@ -446,7 +460,6 @@ fn render_and_write(
         brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
     let scene_hash =
         brume::render::provenance::frame_scene_hash(&args.scene, &scene.settings, frame)?;
-    check_outputs(exr_path, png_path, inputs)?;
     check_memory(scene, &args.scene)?;
     let options = RenderOptions {
         spp: scene.settings.spp,
@@ -455,7 +468,7 @@ fn render_and_write(
         threads: args.threads,
         progress: job.show,
     };
-    let checkpoint = match args.checkpoint {
+    let mut checkpoint = match args.checkpoint {
         Some(t) if !(t.is_finite() && t > 0.0) => {
             return Err(argument(
                 "--checkpoint",
@@ -482,7 +495,14 @@ fn render_and_write(
         }
         None => None,
     };
-    let mut out = render_live(scene, &options, &part, job.cancel, display, checkpoint);
+    let mut out = render_live(
+        scene,
+        &options,
+        &part,
+        job.cancel,
+        display,
+        checkpoint.as_mut(),
+    );
     if out.image.spp == 0 {
         // Only a stop before the first pass finished gets here: an image of
         // 0 samples is black, and must not replace an earlier render.
@@ -494,6 +514,61 @@ fn render_and_write(
         return Ok(EXIT_INTERRUPTED);
     }
     out.film.provenance.scene_hash = scene_hash;
+    save(job, &out, (exr_path, png_path), checkpoint.as_mut())
+}
+
+/// Writes a finished or stopped render: a stopped one as a partial image,
+/// beside a better one if need be (`output_safety::place_partial`); returns the exit code.
+fn save(
+    job: &Job,
+    out: &brume::render::RenderOutput,
+    (exr_path, png_path): (&Path, &Path),
+    checkpoint: Option<&mut brume::render::checkpoint::Checkpoint>,
+) -> Result<i32> {
+    use brume::render::output_safety::{place_partial, Placement};
+    let place = match out.image.partial {
+        true => place_partial(exr_path, Some(png_path), out.image.spp),
+        false => Placement::requested(exr_path, Some(png_path)),
+    };
+    if let (Some(exr), Some(png)) = (&place.exr, &place.png) {
+        write_images(job, out, exr, png)?;
+        if !job.args.quiet {
+            report(out, exr, png);
+        }
+    }
+    if !out.image.partial {
+        if let Some(c) = checkpoint {
+            c.remove_stale();
+        }
+        return Ok(0);
+    }
+    // Said even with --quiet: the caller must know the image is not the full render.
+    match (&place.exr, &place.png) {
+        (Some(exr), Some(png)) => eprintln!(
+            "interrupted: saved the {} spp finished before the stop to {} and {}",
+            out.image.spp,
+            exr.display(),
+            png.display()
+        ),
+        _ => eprintln!(
+            "interrupted: the {} spp finished before the stop were not saved",
+            out.image.spp
+        ),
+    }
+    if let Some(note) = place.note() {
+        eprintln!("note: {note}");
+    }
+    Ok(EXIT_INTERRUPTED)
+}
+
+/// Writes the render's EXR (with its AOV layers) and PNG preview.
+fn write_images(
+    job: &Job,
+    out: &brume::render::RenderOutput,
+    exr_path: &Path,
+    png_path: &Path,
+) -> Result<()> {
+    let args = job.args;
     let denoised = match args.denoise && !args.split.is_piece() {
         true => brume::film::denoise::denoise_film(&out.film).map_err(|message| Error::Output {
             path: exr_path.to_path_buf(),
@@ -509,25 +584,11 @@ fn render_and_write(
             exr_path.display()
         );
     }
-    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)?;
-    if !args.quiet {
-        report(&out, exr_path, png_path);
-    }
-    if out.image.partial {
-        // Said even with --quiet: the caller must know the image is not the full render.
-        eprintln!(
-            "interrupted: saved the {} spp finished before the stop to {} and {}",
-            out.image.spp,
-            exr_path.display(),
-            png_path.display()
-        );
-        return Ok(EXIT_INTERRUPTED);
-    }
-    Ok(0)
+    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)
 }
 
 fn run_merge(args: MergeArgs) -> Result<i32> {
-    let merged = brume::film::merge::merge_files(
+    let merged = brume::render::merge_pieces::merge_files(
         &args.pieces,
         &args.out,
         args.png.as_deref(),
@@ -538,8 +599,12 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
     }
     let p = &merged.film.provenance;
     let (w, h) = merged.film.display;
+    let written = match &merged.written {
+        Some(path) => path.display().to_string(),
+        None => "not written".into(),
+    };
     eprintln!(
-        "merged {} pieces into {w}x{h} at {} spp{} -> {}",
+        "merged {} pieces into {w}x{h} at {} spp{} -> {written}",
         args.pieces.len(),
         p.spp_held(),
         if p.complete() {
@@ -547,9 +612,9 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
         } else {
             " (incomplete: some pieces were interrupted)"
         },
-        args.out.display()
     );
-    Ok(0)
+    // Nothing saved (both files hold better images, said in a note above): not a success.
+    Ok(if merged.written.is_some() { 0 } else { 1 })
 }
 
 /// `--aovs a,b,c`: known names, each once; `none` for none.
@@ -585,7 +650,7 @@ fn render_live(
     part: &brume::render::Part,
     cancel: &AtomicBool,
     mut display: Option<brume::render::display::Display>,
-    mut checkpoint: Option<brume::render::checkpoint::Checkpoint>,
+    mut checkpoint: Option<&mut brume::render::checkpoint::Checkpoint>,
 ) -> brume::render::RenderOutput {
     if display.is_none() && checkpoint.is_none() {
         return render_part(scene, options, part, cancel, None);
@@ -670,35 +735,8 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
     Ok(0)
 }
 
-/// The output rules, checked before rendering: each output a writable file
-/// (see `image_io::check_writable`), the two outputs different files, and
-/// neither one an input of the render; a wrong extension is only a warning.
-fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
-    image_io::check_writable(exr)?;
-    image_io::check_writable(png)?;
-    let (exr_c, png_c) = (image_io::canonical(exr), image_io::canonical(png));
-    if exr_c == png_c {
-        return Err(argument(
-            "--png",
-            &format!(
-                "{} is the same file as the EXR output {}; give two different files",
-                png.display(),
-                exr.display()
-            ),
-        ));
-    }
-    for (flag, out, out_c) in [("--out", exr, &exr_c), ("--png", png, &png_c)] {
-        if let Some(input) = inputs.iter().find(|i| image_io::canonical(i) == *out_c) {
-            return Err(argument(
-                flag,
-                &format!(
-                    "{} is an input of the render ({}); brume never overwrites its inputs",
-                    out.display(),
-                    input.display()
-                ),
-            ));
-        }
-    }
+/// A wrong extension is only a warning: the format follows the flag, not the name.
+fn warn_extensions(exr: &Path, png: &Path) {
     for (flag, out, ext) in [("--out", exr, "exr"), ("--png", png, "png")] {
         let matches = out
             .extension()
@@ -711,7 +749,6 @@ fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
             );
         }
     }
-    Ok(())
 }
 
 /// Refuses an image too large for this machine before rendering: a failed

@@ -169,6 +169,7 @@ pub fn read_film_exr(path: &Path) -> Result<Film> {
         path: path.to_path_buf(),
         message,
     };
+    super::check_input(path, "EXR")?;
     let image = exr::prelude::read_all_flat_layers_from_file(path)
         .map_err(|e| bad(format!("cannot read EXR: {e}")))?;
     let main = image
