@@ -23,9 +23,11 @@ pub enum Error {
         /// Why it cannot be used.
         message: String,
     },
-    /// An OpenVDB file or grid cannot be used.
-    #[error(transparent)]
-    Volume(#[from] crate::volume::VolumeError),
+    /// An OpenVDB file or grid cannot be used: the volume reader's message,
+    /// which names the file and grid (converted in `volume`, so that this
+    /// leaf every room uses imports none of them).
+    #[error("{0}")]
+    Volume(String),
     /// A command-line value is invalid.
     #[error("invalid argument {argument}: {message}")]
     Argument {
