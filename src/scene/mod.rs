@@ -10,9 +10,11 @@ mod interior;
 mod keyframes;
 mod materials;
 mod media;
+mod overrides;
 mod shapes;
 mod textures;
 mod validate;
+pub use overrides::Override;
 pub mod vdb;
 
 use crate::camera::{Camera, FovAxis};
