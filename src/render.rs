@@ -59,11 +59,6 @@ struct Pixel {
     nonfinite: u32,
 }
 
-/// The most memory a render may hold at its peak (64 GiB): larger images are
-/// refused before rendering on every machine, whatever the kernel would grant
-/// (a reservation can succeed with overcommit and fail only when touched).
-pub const MAX_PEAK_BYTES: u64 = 64 << 30;
-
 /// Bytes a `width`×`height` render holds at its peak: sums, pass, film,
 /// image, PNG bytes and the EXR channels (3 means, 8 words of sums and counts),
 /// plus the passes a small image renders at once (at most `GROUP_PIXELS`).
