@@ -241,6 +241,25 @@ fn add(film: &mut Film, piece: &Film) {
     }
 }
 
+/// Refuses a merge whose film (the first piece's display window) is over
+/// the memory limit: the pieces' headers declare it, not their pixels.
+fn check_merged_size(pieces: &[(PathBuf, Film)]) -> Result<()> {
+    let Some((path, first)) = pieces.first() else {
+        return Ok(());
+    };
+    let (w, h) = first.display;
+    let channels: usize = first.layers.iter().map(|l| l.channels.len()).sum();
+    // Coverage, counts and non-finite counts (u32 each), and an f64 sum per channel.
+    let bytes = w as u128 * h as u128 * (12 + 8 * channels as u128);
+    crate::limits::check(bytes).map_err(|refusal| {
+        refuse(format!(
+            "{} declares a {w}x{h} image, whose merged film needs {}, {refusal}",
+            path.display(),
+            crate::limits::format_bytes(bytes)
+        ))
+    })
+}
+
 /// Reads the pieces, merges them and writes the merged film to `out` (and a PNG preview to `png`).
 pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result<Merged> {
     crate::image_io::check_writable(out)?;
@@ -263,6 +282,7 @@ pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result
         .iter()
         .map(|p| Ok((p.clone(), crate::image_io::read_film_exr(p)?)))
         .collect::<Result<Vec<_>>>()?;
+    check_merged_size(&films)?;
     let merged = merge(&films)?;
     crate::image_io::write_film_exr(out, &merged.film)?;
     if let Some(png) = png {

@@ -137,6 +137,7 @@ pub fn read_film_exr(path: &Path) -> Result<Film> {
         path: path.to_path_buf(),
         message,
     };
+    super::header::check_exr(path, super::header::Keep::AllChannels)?;
     let image = exr::prelude::read_first_flat_layer_from_file(path)
         .map_err(|e| bad(format!("cannot read EXR: {e}")))?;
     let header = Header {
@@ -173,11 +174,12 @@ pub fn read_film_exr(path: &Path) -> Result<Film> {
     let channels = Channels(&image.layer_data.channel_data.list);
     film.counts = channels.u32(COUNT).map_err(&bad)?;
     film.nonfinite = channels.u32(NONFINITE).map_err(&bad)?;
+    let mut listed = std::collections::HashSet::new();
     film.layers = header
         .layer_list()
         .map_err(&bad)?
         .into_iter()
-        .map(|(name, chans)| channels.layer(name, chans, window.area()))
+        .map(|(name, chans)| channels.layer(name, chans, window.area(), &mut listed))
         .collect::<std::result::Result<_, _>>()
         .map_err(&bad)?;
     if film.layers.first().is_none_or(|l| !l.name.is_empty()) {
@@ -273,13 +275,36 @@ impl Channels<'_> {
     }
 
     /// A layer's f64 sums put together from their two u32 halves.
-    fn layer(&self, name: String, channels: Vec<String>, n: usize) -> Found<Layer> {
+    ///
+    /// Every channel is listed once (`listed` holds those of earlier layers)
+    /// and is in the file before the sums are allocated: a header cannot
+    /// make the sums larger than the channels the file holds.
+    fn layer(
+        &self,
+        name: String,
+        channels: Vec<String>,
+        n: usize,
+        listed: &mut std::collections::HashSet<String>,
+    ) -> Found<Layer> {
         let mut layer = Layer {
             name,
             channels,
             sums: Vec::new(),
         };
         let k = layer.channels.len();
+        for c in 0..k {
+            let full = layer.channel_name(c);
+            if !self
+                .0
+                .iter()
+                .any(|ch| ch.name == *format!("{HI}{full}").as_str())
+            {
+                return Err(format!("not a brume film: no channel {HI}{full}"));
+            }
+            if !listed.insert(full.clone()) {
+                return Err(format!("brume:layers lists channel {full} twice"));
+            }
+        }
         layer.sums = vec![0.0; n * k];
         for c in 0..k {
             let full = layer.channel_name(c);
