@@ -22,7 +22,7 @@
 use glam::{DMat4, IVec3, Mat4};
 
 use super::blackbody::BlackbodyTable;
-use super::majorant_grid::{Dda, MajorantGrid};
+use super::majorant_grid::{check_size, Dda, MajorantGrid, TooLarge};
 use super::motion::{self, GridMotion, MotionLookup};
 use super::voxel::VoxelWalk;
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
@@ -171,7 +171,7 @@ pub(crate) fn index_map_of(transform: &GridTransform, to_world: &Affine3A) -> Af
 /// the tentative collisions by a fifth, for about as many instructions per sample:
 /// the DDA steps the smaller cells add cost what the saved lookups did.
 pub fn default_cell_size(extent: IVec3) -> i32 {
-    ((extent.max_element() + 31) / 32).clamp(4, 32)
+    (extent.max_element().saturating_add(31) / 32).clamp(4, 32)
 }
 
 /// Most null collisions a ray should expect crossing one majorant cell whose
@@ -207,94 +207,166 @@ fn voxel_world_length(grid: &FloatGrid, to_world: &Affine3A) -> f32 {
         .fold(0.0, f64::max) as f32
 }
 
+/// Majorant cell size in voxels for a grid over the index box `[lo, hi]`.
+fn choose_cell_size(
+    density: &FloatGrid,
+    params: &GridMediumParams,
+    moving: bool,
+    lo: Vec3,
+    hi: Vec3,
+) -> Vec3 {
+    let extent = (hi - lo).as_ivec3().max(IVec3::ONE);
+    let peak = density.value_range().1.max(density.background()).max(0.0)
+        * (params.sigma_t_scale * params.density_scale).max_channel()
+        * voxel_world_length(density, &params.to_world);
+    // Dense cells are walked voxel by voxel (`ExactVoxels`) where the medium
+    // allows it; only media that always take null collisions need cells
+    // shrunk to their density.
+    let exact_walks =
+        !moving && params.sigma_t_scale.min_channel() == params.sigma_t_scale.max_channel();
+    match params.majorant {
+        MajorantMode::Grid => Vec3::splat(
+            params
+                .cell_size
+                .unwrap_or_else(|| {
+                    let cell = match exact_walks {
+                        true => default_cell_size(extent),
+                        false => default_cell_size(extent).min(dense_cell_size(peak, extent)),
+                    };
+                    cell.max(memory_cell_size(extent))
+                })
+                .max(1) as f32,
+        ),
+        MajorantMode::Global => extent.as_vec3(),
+    }
+}
+
+/// The emission lookups of a grid medium placed by `to_world`.
+fn emission_source(emission: GridEmission, to_world: &Affine3A) -> EmissionSource {
+    match emission {
+        GridEmission::None => EmissionSource::None,
+        GridEmission::Constant(le) => EmissionSource::Constant(le),
+        GridEmission::Blackbody {
+            temperature,
+            temperature_scale,
+            emission_scale,
+        } => {
+            let t_max = temperature.value_range().1.max(temperature.background());
+            EmissionSource::Blackbody {
+                world_to_index: index_map(&temperature, to_world),
+                table: BlackbodyTable::new(t_max * temperature_scale),
+                temperature,
+                temperature_scale,
+                emission_scale,
+            }
+        }
+        GridEmission::Grid {
+            grid,
+            emission_scale,
+        } => EmissionSource::Grid {
+            world_to_index: index_map(&grid, to_world),
+            grid,
+            emission_scale,
+        },
+    }
+}
+
+/// A grid medium whose majorant grid would be too large to build.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MajorantTooLarge {
+    /// How far (density index voxels per axis) the motion displaces the
+    /// medium over the shutter; `None` for a still medium.
+    pub motion_radius: Option<Vec3>,
+    /// The grid it would need.
+    pub grid: TooLarge,
+}
+
+/// Most cells a default-sized majorant grid holds, as a whole cell size in
+/// voxels: a sparse grid spanning a huge box gets coarser cells, not a grid
+/// beyond memory (grids up to 5000 voxels a side are far below it).
+fn memory_cell_size(extent: IVec3) -> i32 {
+    let volume = extent.as_vec3().element_product();
+    (volume / MAX_MAJORANT_CELLS).cbrt().ceil() as i32
+}
+
 impl GridMedium {
     /// A medium over `density` (any origin: a VDB file's grid or one built in code).
+    ///
+    /// Panics when its majorant grid is over the memory limit (see [`GridMedium::try_new_moving`]).
     pub fn new(density: FloatGrid, params: GridMediumParams) -> GridMedium {
         GridMedium::new_moving(density, params, None)
     }
 
     /// A medium over `density`, advected by `motion` over the shutter (module `motion`).
+    ///
+    /// Panics when its majorant grid is over the memory limit: scene loading
+    /// uses [`GridMedium::try_new_moving`], which reports it.
     pub fn new_moving(
         density: FloatGrid,
         params: GridMediumParams,
         motion: Option<GridMotion>,
     ) -> GridMedium {
+        GridMedium::try_new_moving(density, params, motion)
+            .unwrap_or_else(|e| panic!("majorant grid of {}", e.grid))
+    }
+
+    /// [`GridMedium::new_moving`], or the majorant grid it would need when
+    /// that is over the memory limit (extreme velocities, a sparse grid
+    /// spanning a huge box with a small `cell_size`).
+    pub fn try_new_moving(
+        density: FloatGrid,
+        params: GridMediumParams,
+        motion: Option<GridMotion>,
+    ) -> Result<GridMedium, MajorantTooLarge> {
         let world_to_index = index_map(&density, &params.to_world);
         let may_clamp = density.background() < 0.0 || density.blocks().any(|b| b.min_value < 0.0);
         // Trilinear lookups reach one voxel beyond the active voxels.
         let (lo, hi) = density
             .index_bbox_active()
-            .map(|(lo, hi)| ((lo - IVec3::ONE).as_vec3(), (hi + IVec3::ONE).as_vec3()))
+            .map(|(lo, hi)| {
+                (
+                    lo.saturating_sub(IVec3::ONE).as_vec3(),
+                    hi.saturating_add(IVec3::ONE).as_vec3(),
+                )
+            })
             .unwrap_or((Vec3::ZERO, Vec3::ZERO));
-        let extent = (hi - lo).as_ivec3().max(IVec3::ONE);
-        let peak = density.value_range().1.max(density.background()).max(0.0)
-            * (params.sigma_t_scale * params.density_scale).max_channel()
-            * voxel_world_length(&density, &params.to_world);
-        // Dense cells are walked voxel by voxel (`ExactVoxels`) where the medium
-        // allows it; only media that always take null collisions need cells
-        // shrunk to their density.
-        let exact_walks = motion.is_none()
-            && params.sigma_t_scale.min_channel() == params.sigma_t_scale.max_channel();
-        let cell = match params.majorant {
-            MajorantMode::Grid => Vec3::splat(
-                params
-                    .cell_size
-                    .unwrap_or_else(|| match exact_walks {
-                        true => default_cell_size(extent),
-                        false => default_cell_size(extent).min(dense_cell_size(peak, extent)),
-                    })
-                    .max(1) as f32,
-            ),
-            MajorantMode::Global => extent.as_vec3(),
-        };
+        let cell = choose_cell_size(&density, &params, motion.is_some(), lo, hi);
         // Cell faces half-way between voxel centres: the trilinear support of a
         // cell is then cell + 2 voxels per axis, not cell + 3 (majorant_grid).
         let (grid_lo, grid_hi) = (lo - 0.5, hi + 0.5);
         let (motion, (majorants, track_lo, track_hi)) = match &motion {
-            None => (
-                None,
-                (
-                    MajorantGrid::build(&density, grid_lo, grid_hi, cell),
-                    lo,
-                    hi,
-                ),
-            ),
+            None => {
+                let still = |grid| MajorantTooLarge {
+                    motion_radius: None,
+                    grid,
+                };
+                check_size(grid_lo, grid_hi, cell).map_err(still)?;
+                let grid = MajorantGrid::build(&density, grid_lo, grid_hi, cell);
+                (None, (grid, lo, hi))
+            }
             Some(m) => {
                 let (lookup, r) = MotionLookup::new(m, &params.to_world, &world_to_index);
-                let k = motion::dilation_cells(r, cell);
+                let moving = |grid| MajorantTooLarge {
+                    motion_radius: Some(r),
+                    grid,
+                };
+                let k = motion::dilation_cells(r, cell).ok_or_else(|| {
+                    moving(TooLarge {
+                        cells: None,
+                        bytes: None,
+                        reason: "beyond what a majorant grid can index".into(),
+                    })
+                })?;
+                let pad = k.as_vec3() * cell;
+                check_size(grid_lo - pad, grid_hi + pad, cell).map_err(moving)?;
                 let (grid, pad) = motion::dilated_majorants(&density, grid_lo, grid_hi, cell, k);
                 (Some(lookup), (grid, lo - pad, hi + pad))
             }
         };
-        let emission = match params.emission {
-            GridEmission::None => EmissionSource::None,
-            GridEmission::Constant(le) => EmissionSource::Constant(le),
-            GridEmission::Blackbody {
-                temperature,
-                temperature_scale,
-                emission_scale,
-            } => {
-                let t_max = temperature.value_range().1.max(temperature.background());
-                EmissionSource::Blackbody {
-                    world_to_index: index_map(&temperature, &params.to_world),
-                    table: BlackbodyTable::new(t_max * temperature_scale),
-                    temperature,
-                    temperature_scale,
-                    emission_scale,
-                }
-            }
-            GridEmission::Grid {
-                grid,
-                emission_scale,
-            } => EmissionSource::Grid {
-                world_to_index: index_map(&grid, &params.to_world),
-                grid,
-                emission_scale,
-            },
-        };
+        let emission = emission_source(params.emission, &params.to_world);
         let peak_majorant =
             majorants.global_max() * (params.sigma_t_scale * params.density_scale).max_channel();
-        GridMedium {
+        Ok(GridMedium {
             density,
             world_to_index,
             bounds: Bounds3 { min: lo, max: hi },
@@ -311,7 +383,7 @@ impl GridMedium {
             exact: ExactVoxels::Auto,
             may_clamp,
             peak_majorant,
-        }
+        })
     }
 
     /// Chooses where tracking integrates voxels exactly (default [`ExactVoxels::Auto`]).

@@ -24,6 +24,8 @@ use glam::{IVec3, Vec3};
 
 use crate::volume::FloatGrid;
 
+mod dilate;
+
 /// Relative widening of the cell bounds, covering rounding in trilinear lookups.
 const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
 
@@ -44,6 +46,66 @@ fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
 /// ⌈a / b⌉ per component (b > 0).
 fn div_ceil(a: IVec3, b: IVec3) -> IVec3 {
     -div_floor(-a, b)
+}
+
+/// Bytes per cell a majorant grid holds at its peak: two f32 bounds and a
+/// u64 coverage count while it is built (it is dilated in place).
+pub const PEAK_BYTES_PER_CELL: u128 = 16;
+
+/// A majorant grid too large to build: cells per axis (`None` when not even
+/// that is finite) and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TooLarge {
+    /// Cells along each axis.
+    pub cells: Option<[u64; 3]>,
+    /// Bytes it would hold at its peak.
+    pub bytes: Option<u128>,
+    /// The limit it is over.
+    pub reason: String,
+}
+
+impl std::fmt::Display for TooLarge {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match (self.cells, self.bytes) {
+            (Some([x, y, z]), Some(b)) => write!(
+                f,
+                "{x}x{y}x{z} cells ({}), {}",
+                crate::limits::format_bytes(b),
+                self.reason
+            ),
+            _ => write!(f, "more cells than can be counted, {}", self.reason),
+        }
+    }
+}
+
+/// Cells per axis of the grid [`MajorantGrid::build`] makes over `[lo, hi]`
+/// in cells of `cell` voxels, checked before it is allocated: each axis and
+/// the total indexable in i32, the bytes within the memory limit.
+pub fn check_size(lo: Vec3, hi: Vec3, cell: Vec3) -> Result<IVec3, TooLarge> {
+    let dims = ((hi - lo) / cell).ceil().max(Vec3::ONE);
+    let finite = dims.is_finite() && dims.max_element() < i32::MAX as f32;
+    let Some(cells) = finite.then(|| dims.to_array().map(|d| d as u64)) else {
+        return Err(TooLarge {
+            cells: None,
+            bytes: None,
+            reason: "beyond what a majorant grid can index".into(),
+        });
+    };
+    let total = cells.iter().map(|&c| c as u128).product::<u128>();
+    let bytes = total * PEAK_BYTES_PER_CELL;
+    let too_large = |reason: String| TooLarge {
+        cells: Some(cells),
+        bytes: Some(bytes),
+        reason,
+    };
+    if total > i32::MAX as u128 {
+        return Err(too_large(format!(
+            "more than the {} cells a majorant grid can index",
+            i32::MAX
+        )));
+    }
+    crate::limits::check(bytes).map_err(|refusal| too_large(refusal.to_string()))?;
+    Ok(dims.as_ivec3())
 }
 
 /// Density bounds over a dense grid of coarse cells in index space.
@@ -143,72 +205,6 @@ impl MajorantGrid {
             max,
             min,
         }
-    }
-
-    /// The bounds over every point within `k` cells (per axis) of each cell:
-    /// max and min filters over the (2k + 1)³ neighbourhood, separable by axis.
-    ///
-    /// Neighbours outside the grid count as density 0 for the minimum, and so
-    /// do cells not inside `inside` (an index box beyond which the density
-    /// is 0 whatever the grid stores). Used by velocity motion blur; `k = 0`
-    /// returns the grid unchanged.
-    pub fn dilated(&self, k: IVec3, inside: (Vec3, Vec3)) -> MajorantGrid {
-        if k == IVec3::ZERO {
-            return self.clone();
-        }
-        let mut out = self.clone();
-        for (i, m) in out.min.iter_mut().enumerate() {
-            let n = i as i32;
-            let c = IVec3::new(
-                n % self.dims.x,
-                (n / self.dims.x) % self.dims.y,
-                n / (self.dims.x * self.dims.y),
-            );
-            let lo = self.origin + c.as_vec3() * self.cell;
-            let hi = lo + self.cell;
-            if lo.cmplt(inside.0).any() || hi.cmpgt(inside.1).any() {
-                *m = 0.0;
-            }
-        }
-        for axis in 0..3 {
-            let r = k[axis];
-            out.max = self.filter_axis(&out.max, axis, r, f32::max, None);
-            out.min = self.filter_axis(&out.min, axis, r, f32::min, Some(0.0));
-        }
-        out
-    }
-
-    /// One axis of a separable neighbourhood filter; `outside` is the value of cells beyond the grid.
-    fn filter_axis(
-        &self,
-        values: &[f32],
-        axis: usize,
-        r: i32,
-        op: fn(f32, f32) -> f32,
-        outside: Option<f32>,
-    ) -> Vec<f32> {
-        let d = self.dims;
-        let mut out = values.to_vec();
-        for z in 0..d.z {
-            for y in 0..d.y {
-                for x in 0..d.x {
-                    let c = IVec3::new(x, y, z);
-                    let i = (x + d.x * (y + d.y * z)) as usize;
-                    for o in -r..=r {
-                        let mut n = c;
-                        n[axis] += o;
-                        if n[axis] < 0 || n[axis] >= d[axis] {
-                            if let Some(v) = outside {
-                                out[i] = op(out[i], v);
-                            }
-                            continue;
-                        }
-                        out[i] = op(out[i], values[(n.x + d.x * (n.y + d.y * n.z)) as usize]);
-                    }
-                }
-            }
-        }
-        out
     }
 
     /// Index-space box the cells cover: `origin` to `origin + dims · cell`.
