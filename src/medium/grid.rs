@@ -233,7 +233,7 @@ fn choose_cell_size(
                         true => default_cell_size(extent),
                         false => default_cell_size(extent).min(dense_cell_size(peak, extent)),
                     };
-                    cell.max(memory_cell_size(extent))
+                    cell.max(memory_cell_size(hi - lo))
                 })
                 .max(1) as f32,
         ),
@@ -281,12 +281,29 @@ pub struct MajorantTooLarge {
     pub grid: TooLarge,
 }
 
-/// Most cells a default-sized majorant grid holds, as a whole cell size in
-/// voxels: a sparse grid spanning a huge box gets coarser cells, not a grid
-/// beyond memory (grids up to 5000 voxels a side are far below it).
-fn memory_cell_size(extent: IVec3) -> i32 {
-    let volume = extent.as_vec3().element_product();
-    (volume / MAX_MAJORANT_CELLS).cbrt().ceil() as i32
+/// The smallest cell size (voxels) that keeps a default majorant grid over
+/// the index box of `size` voxels within 2²² cells: a sparse grid spanning a huge box gets
+/// coarser cells, not a grid beyond memory. Grids whose default cells fit
+/// (up to 5000 voxels a side and far beyond) keep them.
+fn memory_cell_size(size: Vec3) -> i32 {
+    // The grid box is the size plus half a voxel each side (i64: a sparse
+    // grid can span more than i32 holds).
+    let sides = size.as_i64vec3().max(glam::I64Vec3::ZERO) + glam::I64Vec3::ONE;
+    let cells = |c: i64| {
+        let d = (sides + glam::I64Vec3::splat(c - 1)) / c;
+        d.x as u128 * d.y as u128 * d.z as u128
+    };
+    // Fewer cells as c grows: the smallest c that fits, by bisection.
+    let (mut lo, mut hi) = (1, sides.max_element());
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if cells(mid) <= MAX_MAJORANT_CELLS as u128 {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    lo.min(i32::MAX as i64) as i32
 }
 
 impl GridMedium {
@@ -657,6 +674,32 @@ mod tests {
             emission: GridEmission::None,
             majorant: MajorantMode::Grid,
             cell_size: None,
+        }
+    }
+
+    /// Two leaves at the two ends of the i32 index range (a damaged or hostile
+    /// VDB file): the default cells grow so that the majorant grid stays within
+    /// 2²² cells, its index arithmetic does not overflow, and the cells holding
+    /// the leaves bound their density.
+    #[test]
+    fn a_grid_spanning_the_whole_index_range_gets_a_bounded_majorant_grid() {
+        let mut b = crate::volume::GridBuilder::default();
+        for origin in [IVec3::new(i32::MIN, 0, 0), IVec3::new(i32::MAX - 7, 0, 0)] {
+            b.leaf_origins.push(origin);
+            b.leaf_masks.push([u64::MAX; 8]);
+            b.leaf_values.extend([2.0f32; 512]);
+        }
+        let t = GridTransform::scale_translate("ScaleMap", glam::DVec3::ONE, glam::DVec3::ZERO);
+        let grid = b.finish("far", 0.0, t.expect("transform")).expect("grid");
+        let medium = GridMedium::try_new_moving(grid, params(Affine3A::IDENTITY), None)
+            .expect("a bounded majorant grid");
+        let m = medium.majorant_grid();
+        let cells = m.dims().as_i64vec3().element_product();
+        assert!(cells <= 1 << 22, "{} cells", m.dims());
+        let last = m.dims().x - 1;
+        for x in [0, last] {
+            let c = IVec3::new(x, 0, 0);
+            assert!(m.bounds(c).1 >= 2.0, "cell {c}: {:?}", m.bounds(c));
         }
     }
 

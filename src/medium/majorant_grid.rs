@@ -20,7 +20,7 @@
 //! between these bounds; the bounds are then widened by a relative 2⁻²⁰ to
 //! absorb the rounding of the interpolation.
 
-use glam::{IVec3, Vec3};
+use glam::{I64Vec3, IVec3, Vec3};
 
 use crate::volume::FloatGrid;
 
@@ -35,8 +35,8 @@ const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
 pub const ROUNDING_REACH: f32 = 0.375;
 
 /// ⌊a / b⌋ per component (b > 0).
-fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
-    IVec3::new(
+fn div_floor(a: I64Vec3, b: I64Vec3) -> I64Vec3 {
+    I64Vec3::new(
         a.x.div_euclid(b.x),
         a.y.div_euclid(b.y),
         a.z.div_euclid(b.z),
@@ -44,8 +44,14 @@ fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
 }
 
 /// ⌈a / b⌉ per component (b > 0).
-fn div_ceil(a: IVec3, b: IVec3) -> IVec3 {
+fn div_ceil(a: I64Vec3, b: I64Vec3) -> I64Vec3 {
     -div_floor(-a, b)
+}
+
+/// Voxels in a box of `size` (0 when empty).
+fn volume(size: I64Vec3) -> u128 {
+    let s = size.max(I64Vec3::ZERO);
+    s.x as u128 * s.y as u128 * s.z as u128
 }
 
 /// Bytes per cell a majorant grid holds at its peak: two f32 bounds and a
@@ -133,53 +139,56 @@ impl MajorantGrid {
         let mut max = vec![f32::NEG_INFINITY; n];
         let mut min = vec![f32::INFINITY; n];
         let mut covered = vec![0u64; n];
-        let cell_i = cell.ceil().as_ivec3();
+        // Index arithmetic in i64: a sparse grid may hold voxels at both ends
+        // of the i32 range, whose differences overflow i32.
+        let cell_i = cell.ceil().as_i64vec3();
         // Voxel support of cell c: [first + c·cell, first + c·cell + span) per axis
         // (module doc), the same span for every cell as cells are whole voxels.
-        let first = (lo - ROUNDING_REACH).floor().as_ivec3();
-        let span = (lo + ROUNDING_REACH).floor().as_ivec3() - first + cell_i + IVec3::splat(2);
-        let support_lo = |c: IVec3| first + c * cell_i;
-        let support_volume = span.as_i64vec3().element_product() as u64;
+        let first = (lo - ROUNDING_REACH).floor().as_i64vec3();
+        let span = (lo + ROUNDING_REACH).floor().as_i64vec3() - first + cell_i + I64Vec3::splat(2);
+        let support_lo = |c: I64Vec3| first + c * cell_i;
+        // None when beyond u64 (cells of millions of voxels): never known covered.
+        let support_volume = u64::try_from(volume(span)).ok();
+        let last = dims.as_i64vec3() - I64Vec3::ONE;
+        let index = |x: i64, y: i64, z: i64| (x + dims.x as i64 * (y + dims.y as i64 * z)) as usize;
         for block in grid.blocks() {
-            let b_lo = block.min;
-            let b_hi = block.min + IVec3::splat(block.size - 1);
+            let b_lo = block.min.as_i64vec3();
+            let b_hi = b_lo + I64Vec3::splat(block.size as i64 - 1);
             let per_voxel = block.size == 8 && block.min_value != block.max_value;
             // Cells whose support meets the block.
-            let c_lo = div_floor(b_lo - first - span + IVec3::ONE, cell_i).max(IVec3::ZERO);
-            let c_hi = div_floor(b_hi - first, cell_i).min(dims - IVec3::ONE);
+            let c_lo = div_floor(b_lo - first - span + I64Vec3::ONE, cell_i).max(I64Vec3::ZERO);
+            let c_hi = div_floor(b_hi - first, cell_i).min(last);
             for z in c_lo.z..=c_hi.z {
                 for y in c_lo.y..=c_hi.y {
                     for x in c_lo.x..=c_hi.x {
-                        let c = IVec3::new(x, y, z);
-                        let s_lo = support_lo(c);
-                        let s_hi = s_lo + span - IVec3::ONE;
-                        let overlap =
-                            (s_hi.min(b_hi) - s_lo.max(b_lo) + IVec3::ONE).max(IVec3::ZERO);
-                        let volume = overlap.as_i64vec3().element_product() as u64;
-                        if volume == 0 {
+                        let s_lo = support_lo(I64Vec3::new(x, y, z));
+                        let s_hi = s_lo + span - I64Vec3::ONE;
+                        let overlap = volume(s_hi.min(b_hi) - s_lo.max(b_lo) + I64Vec3::ONE);
+                        if overlap == 0 {
                             continue;
                         }
-                        let i = (x + dims.x * (y + dims.y * z)) as usize;
+                        let i = index(x, y, z);
                         if !per_voxel {
                             max[i] = max[i].max(block.max_value);
                             min[i] = min[i].min(block.min_value);
                         }
-                        covered[i] += volume;
+                        covered[i] =
+                            covered[i].saturating_add(overlap.min(u64::MAX as u128) as u64);
                     }
                 }
             }
             if per_voxel {
                 // Leaf bricks vary inside: bound each cell by the voxels its support holds.
                 for v in 0..512 {
-                    let ijk = b_lo + IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
-                    let value = grid.value(ijk);
-                    let rel = ijk - first;
-                    let c0 = div_ceil(rel - span + IVec3::ONE, cell_i).max(IVec3::ZERO);
-                    let c1 = div_floor(rel, cell_i).min(dims - IVec3::ONE);
+                    let local = IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
+                    let value = grid.value(block.min + local);
+                    let rel = b_lo + local.as_i64vec3() - first;
+                    let c0 = div_ceil(rel - span + I64Vec3::ONE, cell_i).max(I64Vec3::ZERO);
+                    let c1 = div_floor(rel, cell_i).min(last);
                     for z in c0.z..=c1.z {
                         for y in c0.y..=c1.y {
                             for x in c0.x..=c1.x {
-                                let i = (x + dims.x * (y + dims.y * z)) as usize;
+                                let i = index(x, y, z);
                                 max[i] = max[i].max(value);
                                 min[i] = min[i].min(value);
                             }
@@ -191,7 +200,7 @@ impl MajorantGrid {
         let background = grid.background();
         for i in 0..n {
             // Bricks and tiles are disjoint: less coverage than the support means background voxels.
-            if covered[i] < support_volume {
+            if support_volume.is_none_or(|s| covered[i] < s) {
                 max[i] = max[i].max(background);
                 min[i] = min[i].min(background);
             }

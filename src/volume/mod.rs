@@ -54,6 +54,9 @@ mod vec3;
 use std::path::{Path, PathBuf};
 
 pub use error::VolumeError;
+/// For tests that build sparse grids no dense array can hold.
+#[cfg(test)]
+pub(crate) use grid::GridBuilder;
 pub use grid::{Block, FloatGrid, ValueCensus};
 pub use info::info_report;
 pub use transform::GridTransform;
