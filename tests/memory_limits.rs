@@ -199,3 +199,13 @@ fn an_extreme_velocity_scale_is_refused_on_its_key_at_once() {
         );
     }
 }
+
+#[test]
+fn an_airlight_width_over_the_limit_is_refused_on_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["airlight", "--out", "air", "--spp", "1", "--width", "30000"];
+    assert_refused(
+        brume(dir.path(), &args, Some("1")),
+        &["invalid argument --width: a 30000x6000 image needs 27.9 GB of memory, more than the memory limit of 1.0 GB"],
+    );
+}
