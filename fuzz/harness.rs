@@ -1,7 +1,8 @@
-//! The bodies of the fuzz targets, shared by `fuzz_targets/*.rs` (libFuzzer)
-//! and `tests/fuzz_regressions.rs` (which replays the seeds and every crash
-//! found through the same code on each `cargo test`). Any `Err` is fine; a
-//! panic, an abort, a huge allocation or a hang is a crash.
+//! The bodies of the fuzz targets, shared with `tests/fuzz_regressions.rs`
+//! (both include this file by `#[path]`), so that the suite replays the
+//! seeds and crash reproducers through exactly the code the fuzzers run.
+//! Any `Err` is fine; a panic, an abort or a hang is a crash.
+// Each fuzz target calls one of the bodies.
 #![allow(dead_code)]
 
 use brume::volume::VdbFile;
@@ -12,7 +13,8 @@ use std::path::Path;
 /// limit are exercised too, and libFuzzer's RSS limit is never the one hit.
 pub const IMAGE_MEMORY_LIMIT: u64 = 256_000_000;
 
-/// `scene_parse`: scene text → parse → build against the folder `base`.
+/// The `scene_parse` target: text → parse → build, relative paths (OBJ
+/// files) resolved against `base`, an empty folder.
 pub fn scene_parse(data: &[u8], base: &Path) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
@@ -23,8 +25,8 @@ pub fn scene_parse(data: &[u8], base: &Path) {
     }
 }
 
-/// `vdb_load`: VDB bytes → open → load every grid → what `brume info` and
-/// the renderer ask of a loaded grid.
+/// The `vdb_load` target: bytes → open → load every grid → what `brume
+/// info` and the renderer ask of a loaded grid.
 pub fn vdb_load(data: &[u8]) {
     let Ok(file) = VdbFile::from_bytes(Path::new("fuzz.vdb"), data.to_vec()) else {
         return;
@@ -71,8 +73,8 @@ pub fn image_read(data: &[u8], dir: &Path) {
     if std::fs::write(&exr, data).is_err() || std::fs::write(&png, data).is_err() {
         return;
     }
-    let _ = brume::image_io::read_exr(&exr);
-    let _ = brume::image_io::read_exr_channels(&exr);
-    let _ = brume::image_io::read_film_exr(&exr);
-    let _ = brume::image_io::read_png(&png);
+    let _ = brume::film::image_io::read_exr(&exr);
+    let _ = brume::film::image_io::read_exr_channels(&exr);
+    let _ = brume::film::image_io::read_film_exr(&exr);
+    let _ = brume::film::image_io::read_png(&png);
 }

@@ -42,12 +42,6 @@ fn replay(inputs: &[PathBuf], body: impl Fn(&[u8])) {
     assert!(failures.is_empty(), "panicked on: {failures:#?}");
 }
 
-/// The `scene_parse` target: text → parse → build against an empty folder.
-fn scene_parse(data: &[u8]) {
-    let base = tempfile::tempdir().unwrap();
-    harness::scene_parse(data, base.path());
-}
-
 /// The `image_read` target: every EXR reader and the PNG reader, from files in a fresh folder.
 fn image_read(data: &[u8]) {
     let dir = tempfile::tempdir().unwrap();
@@ -57,7 +51,10 @@ fn image_read(data: &[u8]) {
 #[test]
 fn scene_seeds_and_crash_reproducers_never_panic() {
     let files = inputs(&["fuzz/seeds/scene_parse", "tests/fuzz_regressions/scene"]);
-    replay(&files, scene_parse);
+    replay(&files, |data| {
+        let base = tempfile::tempdir().unwrap();
+        harness::scene_parse(data, base.path());
+    });
 }
 
 #[test]

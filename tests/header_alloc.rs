@@ -90,24 +90,24 @@ type Reader = fn(&Path) -> Result<(), String>;
 /// brume's three EXR readers (environment maps and compare; textures; merge pieces).
 const EXR_READERS: [(&str, Reader); 3] = [
     ("read_exr", |p| {
-        brume::image_io::read_exr(p)
+        brume::film::image_io::read_exr(p)
             .map(drop)
             .map_err(|e| e.to_string())
     }),
     ("read_exr_channels", |p| {
-        brume::image_io::read_exr_channels(p)
+        brume::film::image_io::read_exr_channels(p)
             .map(drop)
             .map_err(|e| e.to_string())
     }),
     ("read_film_exr", |p| {
-        brume::image_io::read_film_exr(p)
+        brume::film::image_io::read_film_exr(p)
             .map(drop)
             .map_err(|e| e.to_string())
     }),
 ];
 
 fn read_png(p: &Path) -> Result<(), String> {
-    brume::image_io::read_png(p)
+    brume::film::image_io::read_png(p)
         .map(drop)
         .map_err(|e| e.to_string())
 }
@@ -171,7 +171,11 @@ fn side() -> impl Strategy<Value = i32> {
     prop_oneof![1..64i32, 64..100_000i32, 100_000..i32::MAX]
 }
 
-fn exr_case() -> impl Strategy<Value = ([i32; 4], u8, Vec<(&'static str, i32)>, Vec<u8>)> {
+/// An EXR header to write: data window, compression code, channels (name,
+/// sample type) and the bytes after the header.
+type ExrCase = ([i32; 4], u8, Vec<(&'static str, i32)>, Vec<u8>);
+
+fn exr_case() -> impl Strategy<Value = ExrCase> {
     let names = ["A", "B", "G", "R", "Y"];
     (
         (-1000..1000i32, -1000..1000i32, side(), side()),

@@ -104,6 +104,33 @@ fn merge_pieces_and_compare_inputs_declaring_huge_images_are_refused() {
     );
 }
 
+/// A valid 8×8 crop of a 4000×4000 image: the merged film it declares
+/// (4000² pixels × 36 bytes = 576 MB) is refused over a 500 MB limit before
+/// any merging (without the check, the merge fails on the missing pixels).
+#[test]
+fn a_merge_whose_merged_film_is_over_the_limit_is_refused_before_merging() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = format!(
+        "{}[[light]]\ntype = \"point\"\nposition = [0.0, 3.0, 0.0]\nintensity = 5.0\n",
+        CAMERA.replace("[4, 4]", "[4000, 4000]")
+    );
+    std::fs::write(dir.path().join("s.toml"), scene).unwrap();
+    let render = [
+        "render", "--quiet", "s.toml", "--crop", "0,8,0,8", "--spp", "1",
+    ];
+    let (code, stderr, _) = brume(
+        dir.path(),
+        &[&render[..], &["--out", "p.exr"]].concat(),
+        Some("3"),
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_refused(
+        brume(dir.path(), &["merge", "p.exr", "-o", "m.exr"], Some("0.5")),
+        &["cannot merge: p.exr declares a 4000x4000 image, whose merged film needs 576.0 MB, more than the memory limit of 500.0 MB"],
+    );
+    assert!(!dir.path().join("m.exr").exists());
+}
+
 /// A real 256×128 sky (393 kB decoded) over limits of 200 kB from the flag or the environment.
 #[test]
 fn the_limit_comes_from_the_flag_else_the_environment_and_names_its_source() {
@@ -204,8 +231,10 @@ fn an_extreme_velocity_scale_is_refused_on_its_key_at_once() {
 fn an_airlight_width_over_the_limit_is_refused_on_the_flag() {
     let dir = tempfile::tempdir().unwrap();
     let args = ["airlight", "--out", "air", "--spp", "1", "--width", "30000"];
-    assert_refused(
-        brume(dir.path(), &args, Some("1")),
-        &["invalid argument --width: a 30000x6000 image needs 27.9 GB of memory, more than the memory limit of 1.0 GB"],
+    // The size is the render's peak, as for `camera.resolution`.
+    let needs = brume::limits::format_bytes(brume::render::peak_bytes(30000, 6000) as u128);
+    let wanted = format!(
+        "invalid argument --width: a 30000x6000 image needs {needs} of memory, more than the memory limit of 1.0 GB"
     );
+    assert_refused(brume(dir.path(), &args, Some("1")), &[&wanted]);
 }

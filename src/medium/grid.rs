@@ -19,16 +19,16 @@
 //! space (the direction is mapped, not renormalized), so the majorant
 //! segments found there apply to the world ray unchanged.
 
-use glam::{DMat4, IVec3, Mat4};
+use glam::IVec3;
 
 use super::blackbody::BlackbodyTable;
 use super::majorant_grid::{Dda, MajorantGrid};
 use super::motion::{GridMotion, MotionLookup};
 use super::voxel::VoxelWalk;
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Affine3A, Bounds3, Ray, Vec3};
-use crate::volume::{FloatGrid, GridTransform};
+use crate::volume::FloatGrid;
 
 mod majorants;
 use majorants::{build_majorants, choose_cell_size};
@@ -158,14 +158,7 @@ pub struct GridMedium {
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
 fn index_map(grid: &FloatGrid, to_world: &Affine3A) -> Affine3A {
-    index_map_of(grid.transform(), to_world)
-}
-
-/// World → index map of a grid with index → world map `transform` placed by `to_world`.
-pub(crate) fn index_map_of(transform: &GridTransform, to_world: &Affine3A) -> Affine3A {
-    let m = Mat4::from(*to_world).as_dmat4() * transform.index_to_world_matrix();
-    let inv: DMat4 = m.inverse();
-    Affine3A::from_mat4(inv.as_mat4())
+    grid.transform().world_to_index_placed(to_world)
 }
 
 /// The emission lookups of a grid medium placed by `to_world`.
@@ -240,7 +233,11 @@ impl GridMedium {
             })
             .unwrap_or((Vec3::ZERO, Vec3::ZERO));
         let cell = choose_cell_size(&density, &params, motion.is_some(), lo, hi);
-        let (motion, majorants, (track_lo, track_hi)) = build_majorants(
+        let majorants::Majorants {
+            motion,
+            grid: majorants,
+            track: (track_lo, track_hi),
+        } = build_majorants(
             &density,
             motion.as_ref(),
             (&params, &world_to_index),
@@ -496,6 +493,7 @@ impl Iterator for GridMajorants<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::volume::GridTransform;
 
     fn grid_of(values: &[f32], voxel: f64) -> FloatGrid {
         let t = GridTransform::scale_translate(

@@ -122,6 +122,16 @@ fn memory_cell_size(size: Vec3) -> i32 {
     lo.min(i32::MAX as i64) as i32
 }
 
+/// A built majorant grid with what tracking needs beside it.
+pub(super) struct Majorants {
+    /// The motion's lookups; `None` for a still medium.
+    pub motion: Option<MotionLookup>,
+    /// The grid, dilated over the shutter for a moving medium.
+    pub grid: MajorantGrid,
+    /// The index box tracking must cover (grown by the dilation).
+    pub track: (Vec3, Vec3),
+}
+
 /// The majorant grid over the index box `[lo, hi]` of `density` in cells of
 /// `cell` voxels, dilated over the shutter by `motion`; with the motion's
 /// lookups and the box tracking must cover. Refused before allocating when
@@ -132,7 +142,7 @@ pub(super) fn build_majorants(
     (params, world_to_index): (&GridMediumParams, &Affine3A),
     (lo, hi): (Vec3, Vec3),
     cell: Vec3,
-) -> Result<(Option<MotionLookup>, MajorantGrid, (Vec3, Vec3)), MajorantTooLarge> {
+) -> Result<Majorants, MajorantTooLarge> {
     // Cell faces half-way between voxel centres: the trilinear support of a
     // cell is then cell + 2 voxels per axis, not cell + 3 (majorant_grid).
     let (grid_lo, grid_hi) = (lo - 0.5, hi + 0.5);
@@ -143,7 +153,11 @@ pub(super) fn build_majorants(
         };
         check_size(grid_lo, grid_hi, cell).map_err(still)?;
         let grid = MajorantGrid::build(density, grid_lo, grid_hi, cell);
-        return Ok((None, grid, (lo, hi)));
+        return Ok(Majorants {
+            motion: None,
+            grid,
+            track: (lo, hi),
+        });
     };
     let (lookup, r) = MotionLookup::new(m, &params.to_world, world_to_index);
     let moving = |grid| MajorantTooLarge {
@@ -160,7 +174,11 @@ pub(super) fn build_majorants(
     let pad = k.as_vec3() * cell;
     check_size(grid_lo - pad, grid_hi + pad, cell).map_err(moving)?;
     let (grid, pad) = motion::dilated_majorants(density, grid_lo, grid_hi, cell, k);
-    Ok((Some(lookup), grid, (lo - pad, hi + pad)))
+    Ok(Majorants {
+        motion: Some(lookup),
+        grid,
+        track: (lo - pad, hi + pad),
+    })
 }
 
 #[cfg(test)]
