@@ -2,12 +2,16 @@
 //! (both include this file by `#[path]`), so that the suite replays the
 //! seeds and crash reproducers through exactly the code the fuzzers run.
 //! Any `Err` is fine; a panic, an abort or a hang is a crash.
-// Each fuzz target calls one of the two bodies.
+// Each fuzz target calls one of the bodies.
 #![allow(dead_code)]
 
 use brume::volume::VdbFile;
 use glam::{DVec3, IVec3, Vec3};
 use std::path::Path;
+
+/// The memory limit while fuzzing image readers (256 MB): refusals by the
+/// limit are exercised too, and libFuzzer's RSS limit is never the one hit.
+pub const IMAGE_MEMORY_LIMIT: u64 = 256_000_000;
 
 /// The `scene_parse` target: text → parse → build, relative paths (OBJ
 /// files) resolved against `base`, an empty folder.
@@ -56,4 +60,21 @@ pub fn vdb_load(data: &[u8]) {
         let _ = grid.trilinear_index(Vec3::NAN);
         let _ = (grid.value(lo), grid.is_active(hi), grid.value(IVec3::MAX));
     }
+}
+
+/// `image_read`: the bytes as an EXR through every EXR reader (environment
+/// maps and compare, textures, merge pieces) and as a PNG through the
+/// texture reader, from files in the folder `dir`, under
+/// [`IMAGE_MEMORY_LIMIT`].
+pub fn image_read(data: &[u8], dir: &Path) {
+    brume::limits::set_memory_limit(IMAGE_MEMORY_LIMIT);
+    let exr = dir.join("fuzz.exr");
+    let png = dir.join("fuzz.png");
+    if std::fs::write(&exr, data).is_err() || std::fs::write(&png, data).is_err() {
+        return;
+    }
+    let _ = brume::film::image_io::read_exr(&exr);
+    let _ = brume::film::image_io::read_exr_channels(&exr);
+    let _ = brume::film::image_io::read_film_exr(&exr);
+    let _ = brume::film::image_io::read_png(&png);
 }

@@ -1,6 +1,6 @@
 //! Replays the fuzzers' seeds and every crash they once found through the
-//! same code paths as the fuzz targets (fuzz/fuzz_targets/): each input may be
-//! refused with an error, none may panic.
+//! fuzz targets' own bodies (fuzz/harness.rs, shared with fuzz/fuzz_targets/):
+//! each input may be refused with an error, none may panic.
 
 #[path = "../fuzz/harness.rs"]
 mod harness;
@@ -42,6 +42,12 @@ fn replay(inputs: &[PathBuf], body: impl Fn(&[u8])) {
     assert!(failures.is_empty(), "panicked on: {failures:#?}");
 }
 
+/// The `image_read` target: every EXR reader and the PNG reader, from files in a fresh folder.
+fn image_read(data: &[u8]) {
+    let dir = tempfile::tempdir().unwrap();
+    harness::image_read(data, dir.path());
+}
+
 #[test]
 fn scene_seeds_and_crash_reproducers_never_panic() {
     let files = inputs(&["fuzz/seeds/scene_parse", "tests/fuzz_regressions/scene"]);
@@ -55,6 +61,12 @@ fn scene_seeds_and_crash_reproducers_never_panic() {
 fn vdb_seeds_and_crash_reproducers_never_panic() {
     let files = inputs(&["fuzz/seeds/vdb_load", "tests/fuzz_regressions/vdb"]);
     replay(&files, harness::vdb_load);
+}
+
+#[test]
+fn image_seeds_and_crash_reproducers_never_panic() {
+    let files = inputs(&["fuzz/seeds/image_read", "tests/fuzz_regressions/image"]);
+    replay(&files, image_read);
 }
 
 #[test]

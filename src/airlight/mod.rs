@@ -340,6 +340,15 @@ pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
     );
     let desc = crate::scene::parse(&text, &file)?;
     let scene = crate::scene::build(&desc, &file, Path::new("."))?;
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let bytes = crate::render::peak_bytes(w, h) as u128;
+    crate::limits::check(bytes).map_err(|refusal| {
+        let needs = crate::limits::format_bytes(bytes);
+        argument(
+            "--width",
+            &format!("a {w}x{h} image needs {needs} of memory, {refusal}"),
+        )
+    })?;
     let render_options = RenderOptions {
         spp: options.spp,
         time_budget: None,

@@ -39,6 +39,7 @@ fn set_pending(tmp: &Path, pending: bool) {
 }
 
 mod film_exr;
+mod header;
 pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_with};
 
 /// A finished (or partial) image in linear RGB with what produced it.
@@ -194,6 +195,7 @@ pub type NamedChannel = (String, Vec<f32>);
 /// channels by their full names (a named layer's channels as `layer.channel`).
 pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>)> {
     check_input(path, "EXR")?;
+    header::check_exr(path, header::Keep::AllChannels)?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -228,6 +230,7 @@ pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>
 pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
     use exr::prelude::read_first_rgba_layer_from_file;
     check_input(path, "EXR")?;
+    header::check_exr(path, header::Keep::Rgb)?;
     let image = read_first_rgba_layer_from_file(
         path,
         |resolution, _| {
@@ -272,11 +275,17 @@ pub fn read_png(path: &Path) -> Result<PngSamples> {
     };
     check_input(path, "PNG")?;
     let file = std::fs::File::open(path).map_err(|e| input(format!("cannot read PNG: {e}")))?;
+    let file_len = file
+        .metadata()
+        .map_err(|e| input(format!("cannot read PNG: {e}")))?
+        .len();
     let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
     decoder.set_transformations(png::Transformations::EXPAND);
     let mut reader = decoder
         .read_info()
         .map_err(|e| input(format!("cannot read PNG: {e}")))?;
+    let samples = reader.output_color_type().0.samples();
+    header::check_png(path, reader.info(), samples, file_len)?;
     let mut buf = vec![0; reader.output_buffer_size()];
     let frame = reader
         .next_frame(&mut buf)

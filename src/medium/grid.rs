@@ -19,16 +19,20 @@
 //! space (the direction is mapped, not renormalized), so the majorant
 //! segments found there apply to the world ray unchanged.
 
-use glam::{IVec3, Mat4};
+use glam::IVec3;
 
 use super::blackbody::BlackbodyTable;
 use super::majorant_grid::{Dda, MajorantGrid};
-use super::motion::{self, GridMotion, MotionLookup};
+use super::motion::{GridMotion, MotionLookup};
 use super::voxel::VoxelWalk;
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
 use crate::math::color::Rgb;
 use crate::math::{Affine3A, Bounds3, Ray, Vec3};
 use crate::volume::FloatGrid;
+
+mod majorants;
+use majorants::{build_majorants, choose_cell_size};
+pub use majorants::{default_cell_size, MajorantTooLarge};
 
 /// How tracking bounds the density along a ray.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -157,137 +161,93 @@ fn index_map(grid: &FloatGrid, to_world: &Affine3A) -> Affine3A {
     grid.transform().world_to_index_placed(to_world)
 }
 
-/// Majorant cell size in voxels: about 32 cells along the longest axis, kept within 4..=32.
-///
-/// On the B3 smoke (73 voxels wide) 4-voxel cells (6 once widened by the trilinear
-/// support) cut the null-collision fraction from 0.52 (8-voxel cells) to 0.41 and
-/// the tentative collisions by a fifth, for about as many instructions per sample:
-/// the DDA steps the smaller cells add cost what the saved lookups did.
-pub fn default_cell_size(extent: IVec3) -> i32 {
-    ((extent.max_element() + 31) / 32).clamp(4, 32)
-}
-
-/// Most null collisions a ray should expect crossing one majorant cell whose
-/// bound is the volume's maximum: past it the cells shrink (see `dense_cell_size`).
-const MAX_CELL_OPTICAL_DEPTH: f32 = 8.0;
-
-/// Most cells a majorant grid may hold (two f32 bounds each, 32 MB).
-const MAX_MAJORANT_CELLS: f32 = (1 << 22) as f32;
-
-/// The largest cell size (voxels) over which the volume's peak extinction
-/// gives at most `MAX_CELL_OPTICAL_DEPTH` null collisions, within the memory
-/// limit of `MAX_MAJORANT_CELLS`.
-///
-/// Tracking costs σ̄·d steps; a dense volume (`density_scale = 1e6`) over
-/// 8-voxel cells would spend ~10⁵ null collisions crossing one mostly empty
-/// cell at its edge. Finer cells bound σ̄ near the density itself.
-fn dense_cell_size(peak_per_voxel: f32, extent: IVec3) -> i32 {
-    let by_depth = if peak_per_voxel > 0.0 {
-        (MAX_CELL_OPTICAL_DEPTH / peak_per_voxel).floor().min(1e6) as i32
-    } else {
-        i32::MAX
-    };
-    let volume = extent.as_vec3().element_product();
-    let by_memory = (volume / MAX_MAJORANT_CELLS).cbrt().ceil() as i32;
-    by_depth.max(by_memory).max(1)
-}
-
-/// World length of one voxel step (the longest axis of index → world after `to_world`).
-fn voxel_world_length(grid: &FloatGrid, to_world: &Affine3A) -> f32 {
-    let m = Mat4::from(*to_world).as_dmat4() * grid.transform().index_to_world_matrix();
-    (0..3)
-        .map(|i| m.col(i).truncate().length())
-        .fold(0.0, f64::max) as f32
+/// The emission lookups of a grid medium placed by `to_world`.
+fn emission_source(emission: GridEmission, to_world: &Affine3A) -> EmissionSource {
+    match emission {
+        GridEmission::None => EmissionSource::None,
+        GridEmission::Constant(le) => EmissionSource::Constant(le),
+        GridEmission::Blackbody {
+            temperature,
+            temperature_scale,
+            emission_scale,
+        } => {
+            let t_max = temperature.value_range().1.max(temperature.background());
+            EmissionSource::Blackbody {
+                world_to_index: index_map(&temperature, to_world),
+                table: BlackbodyTable::new(t_max * temperature_scale),
+                temperature,
+                temperature_scale,
+                emission_scale,
+            }
+        }
+        GridEmission::Grid {
+            grid,
+            emission_scale,
+        } => EmissionSource::Grid {
+            world_to_index: index_map(&grid, to_world),
+            grid,
+            emission_scale,
+        },
+    }
 }
 
 impl GridMedium {
     /// A medium over `density` (any origin: a VDB file's grid or one built in code).
+    ///
+    /// Panics when its majorant grid is over the memory limit (see [`GridMedium::try_new_moving`]).
     pub fn new(density: FloatGrid, params: GridMediumParams) -> GridMedium {
         GridMedium::new_moving(density, params, None)
     }
 
     /// A medium over `density`, advected by `motion` over the shutter (module `motion`).
+    ///
+    /// Panics when its majorant grid is over the memory limit: scene loading
+    /// uses [`GridMedium::try_new_moving`], which reports it.
     pub fn new_moving(
         density: FloatGrid,
         params: GridMediumParams,
         motion: Option<GridMotion>,
     ) -> GridMedium {
+        GridMedium::try_new_moving(density, params, motion)
+            .unwrap_or_else(|e| panic!("majorant grid of {}", e.grid))
+    }
+
+    /// [`GridMedium::new_moving`], or the majorant grid it would need when
+    /// that is over the memory limit (extreme velocities, a sparse grid
+    /// spanning a huge box with a small `cell_size`).
+    pub fn try_new_moving(
+        density: FloatGrid,
+        params: GridMediumParams,
+        motion: Option<GridMotion>,
+    ) -> Result<GridMedium, MajorantTooLarge> {
         let world_to_index = index_map(&density, &params.to_world);
         let may_clamp = density.background() < 0.0 || density.blocks().any(|b| b.min_value < 0.0);
         // Trilinear lookups reach one voxel beyond the active voxels.
         let (lo, hi) = density
             .index_bbox_active()
-            .map(|(lo, hi)| ((lo - IVec3::ONE).as_vec3(), (hi + IVec3::ONE).as_vec3()))
-            .unwrap_or((Vec3::ZERO, Vec3::ZERO));
-        let extent = (hi - lo).as_ivec3().max(IVec3::ONE);
-        let peak = density.value_range().1.max(density.background()).max(0.0)
-            * (params.sigma_t_scale * params.density_scale).max_channel()
-            * voxel_world_length(&density, &params.to_world);
-        // Dense cells are walked voxel by voxel (`ExactVoxels`) where the medium
-        // allows it; only media that always take null collisions need cells
-        // shrunk to their density.
-        let exact_walks = motion.is_none()
-            && params.sigma_t_scale.min_channel() == params.sigma_t_scale.max_channel();
-        let cell = match params.majorant {
-            MajorantMode::Grid => Vec3::splat(
-                params
-                    .cell_size
-                    .unwrap_or_else(|| match exact_walks {
-                        true => default_cell_size(extent),
-                        false => default_cell_size(extent).min(dense_cell_size(peak, extent)),
-                    })
-                    .max(1) as f32,
-            ),
-            MajorantMode::Global => extent.as_vec3(),
-        };
-        // Cell faces half-way between voxel centres: the trilinear support of a
-        // cell is then cell + 2 voxels per axis, not cell + 3 (majorant_grid).
-        let (grid_lo, grid_hi) = (lo - 0.5, hi + 0.5);
-        let (motion, (majorants, track_lo, track_hi)) = match &motion {
-            None => (
-                None,
+            .map(|(lo, hi)| {
                 (
-                    MajorantGrid::build(&density, grid_lo, grid_hi, cell),
-                    lo,
-                    hi,
-                ),
-            ),
-            Some(m) => {
-                let (lookup, r) = MotionLookup::new(m, &params.to_world, &world_to_index);
-                let k = motion::dilation_cells(r, cell);
-                let (grid, pad) = motion::dilated_majorants(&density, grid_lo, grid_hi, cell, k);
-                (Some(lookup), (grid, lo - pad, hi + pad))
-            }
-        };
-        let emission = match params.emission {
-            GridEmission::None => EmissionSource::None,
-            GridEmission::Constant(le) => EmissionSource::Constant(le),
-            GridEmission::Blackbody {
-                temperature,
-                temperature_scale,
-                emission_scale,
-            } => {
-                let t_max = temperature.value_range().1.max(temperature.background());
-                EmissionSource::Blackbody {
-                    world_to_index: index_map(&temperature, &params.to_world),
-                    table: BlackbodyTable::new(t_max * temperature_scale),
-                    temperature,
-                    temperature_scale,
-                    emission_scale,
-                }
-            }
-            GridEmission::Grid {
-                grid,
-                emission_scale,
-            } => EmissionSource::Grid {
-                world_to_index: index_map(&grid, &params.to_world),
-                grid,
-                emission_scale,
-            },
-        };
+                    lo.saturating_sub(IVec3::ONE).as_vec3(),
+                    hi.saturating_add(IVec3::ONE).as_vec3(),
+                )
+            })
+            .unwrap_or((Vec3::ZERO, Vec3::ZERO));
+        let cell = choose_cell_size(&density, &params, motion.is_some(), lo, hi);
+        let majorants::Majorants {
+            motion,
+            grid: majorants,
+            track: (track_lo, track_hi),
+        } = build_majorants(
+            &density,
+            motion.as_ref(),
+            (&params, &world_to_index),
+            (lo, hi),
+            cell,
+        )?;
+        let emission = emission_source(params.emission, &params.to_world);
         let peak_majorant =
             majorants.global_max() * (params.sigma_t_scale * params.density_scale).max_channel();
-        GridMedium {
+        Ok(GridMedium {
             density,
             world_to_index,
             bounds: Bounds3 { min: lo, max: hi },
@@ -304,7 +264,7 @@ impl GridMedium {
             exact: ExactVoxels::Auto,
             may_clamp,
             peak_majorant,
-        }
+        })
     }
 
     /// Chooses where tracking integrates voxels exactly (default [`ExactVoxels::Auto`]).
@@ -535,29 +495,6 @@ mod tests {
     use super::*;
     use crate::volume::GridTransform;
 
-    /// About 32 cells along the longest axis, kept within 4..=32 voxels a cell.
-    #[test]
-    fn default_cells_span_a_thirty_second_of_the_volume() {
-        for (extent, cell) in [(73, 4), (200, 7), (640, 20), (1000, 32), (4000, 32), (8, 4)] {
-            assert_eq!(
-                default_cell_size(IVec3::new(extent, 5, extent / 2)),
-                cell,
-                "{extent}"
-            );
-        }
-    }
-
-    /// Dense media get cells of at most 8 expected null collisions at the
-    /// peak extinction, unless that would exceed the memory budget of 2²² cells.
-    #[test]
-    fn dense_cells_follow_the_peak_within_the_memory_budget() {
-        assert_eq!(dense_cell_size(2.0, IVec3::splat(100)), 4);
-        assert_eq!(dense_cell_size(0.0, IVec3::splat(100)), i32::MAX);
-        assert_eq!(dense_cell_size(100.0, IVec3::splat(100)), 1);
-        // 4096³ voxels in at most 2²² cells: cells of at least ∛16384 ≈ 25.4 voxels.
-        assert_eq!(dense_cell_size(100.0, IVec3::splat(4096)), 26);
-    }
-
     fn grid_of(values: &[f32], voxel: f64) -> FloatGrid {
         let t = GridTransform::scale_translate(
             "UniformScaleMap",
@@ -582,19 +519,29 @@ mod tests {
         }
     }
 
-    /// A voxel step's world length is the file's voxel size times the scene's
-    /// scale, along the axis the placement stretches most.
+    /// Two leaves at the two ends of the i32 index range (a damaged or hostile
+    /// VDB file): the default cells grow so that the majorant grid stays within
+    /// 2²² cells, its index arithmetic does not overflow, and the cells holding
+    /// the leaves bound their density.
     #[test]
-    fn voxel_world_length_is_the_longest_placed_voxel_edge() {
-        let grid = grid_of(&[1.0, 2.0], 0.05);
-        let cases = [
-            (Affine3A::IDENTITY, 0.05),
-            (Affine3A::from_scale(Vec3::splat(2.0)), 0.1),
-            (Affine3A::from_scale(Vec3::new(1.0, 3.0, 0.5)), 0.15),
-        ];
-        for (to_world, expected) in cases {
-            let length = voxel_world_length(&grid, &to_world);
-            assert!((length - expected).abs() < 1e-6, "{length} != {expected}");
+    fn a_grid_spanning_the_whole_index_range_gets_a_bounded_majorant_grid() {
+        let mut b = crate::volume::GridBuilder::default();
+        for origin in [IVec3::new(i32::MIN, 0, 0), IVec3::new(i32::MAX - 7, 0, 0)] {
+            b.leaf_origins.push(origin);
+            b.leaf_masks.push([u64::MAX; 8]);
+            b.leaf_values.extend([2.0f32; 512]);
+        }
+        let t = GridTransform::scale_translate("ScaleMap", glam::DVec3::ONE, glam::DVec3::ZERO);
+        let grid = b.finish("far", 0.0, t.expect("transform")).expect("grid");
+        let medium = GridMedium::try_new_moving(grid, params(Affine3A::IDENTITY), None)
+            .expect("a bounded majorant grid");
+        let m = medium.majorant_grid();
+        let cells = m.dims().as_i64vec3().element_product();
+        assert!(cells <= 1 << 22, "{} cells", m.dims());
+        let last = m.dims().x - 1;
+        for x in [0, last] {
+            let c = IVec3::new(x, 0, 0);
+            assert!(m.bounds(c).1 >= 2.0, "cell {c}: {:?}", m.bounds(c));
         }
     }
 

@@ -20,9 +20,11 @@
 //! between these bounds; the bounds are then widened by a relative 2⁻²⁰ to
 //! absorb the rounding of the interpolation.
 
-use glam::{IVec3, Vec3};
+use glam::{I64Vec3, IVec3, Vec3};
 
 use crate::volume::FloatGrid;
+
+mod dilate;
 
 /// Relative widening of the cell bounds, covering rounding in trilinear lookups.
 const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
@@ -33,8 +35,8 @@ const ROUNDING_PAD: f32 = 1.0 / (1 << 20) as f32;
 pub const ROUNDING_REACH: f32 = 0.375;
 
 /// ⌊a / b⌋ per component (b > 0).
-fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
-    IVec3::new(
+fn div_floor(a: I64Vec3, b: I64Vec3) -> I64Vec3 {
+    I64Vec3::new(
         a.x.div_euclid(b.x),
         a.y.div_euclid(b.y),
         a.z.div_euclid(b.z),
@@ -42,8 +44,74 @@ fn div_floor(a: IVec3, b: IVec3) -> IVec3 {
 }
 
 /// ⌈a / b⌉ per component (b > 0).
-fn div_ceil(a: IVec3, b: IVec3) -> IVec3 {
+fn div_ceil(a: I64Vec3, b: I64Vec3) -> I64Vec3 {
     -div_floor(-a, b)
+}
+
+/// Voxels in a box of `size` (0 when empty).
+fn volume(size: I64Vec3) -> u128 {
+    let s = size.max(I64Vec3::ZERO);
+    s.x as u128 * s.y as u128 * s.z as u128
+}
+
+/// Bytes per cell a majorant grid holds at its peak: two f32 bounds and a
+/// u64 coverage count while it is built (it is dilated in place).
+pub const PEAK_BYTES_PER_CELL: u128 = 16;
+
+/// A majorant grid too large to build: cells per axis (`None` when not even
+/// that is finite) and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TooLarge {
+    /// Cells along each axis.
+    pub cells: Option<[u64; 3]>,
+    /// Bytes it would hold at its peak.
+    pub bytes: Option<u128>,
+    /// The limit it is over.
+    pub reason: String,
+}
+
+impl std::fmt::Display for TooLarge {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match (self.cells, self.bytes) {
+            (Some([x, y, z]), Some(b)) => write!(
+                f,
+                "{x}x{y}x{z} cells ({}), {}",
+                crate::limits::format_bytes(b),
+                self.reason
+            ),
+            _ => write!(f, "more cells than can be counted, {}", self.reason),
+        }
+    }
+}
+
+/// Cells per axis of the grid [`MajorantGrid::build`] makes over `[lo, hi]`
+/// in cells of `cell` voxels, checked before it is allocated: each axis and
+/// the total indexable in i32, the bytes within the memory limit.
+pub fn check_size(lo: Vec3, hi: Vec3, cell: Vec3) -> Result<IVec3, TooLarge> {
+    let dims = ((hi - lo) / cell).ceil().max(Vec3::ONE);
+    let finite = dims.is_finite() && dims.max_element() < i32::MAX as f32;
+    let Some(cells) = finite.then(|| dims.to_array().map(|d| d as u64)) else {
+        return Err(TooLarge {
+            cells: None,
+            bytes: None,
+            reason: "beyond what a majorant grid can index".into(),
+        });
+    };
+    let total = cells.iter().map(|&c| c as u128).product::<u128>();
+    let bytes = total * PEAK_BYTES_PER_CELL;
+    let too_large = |reason: String| TooLarge {
+        cells: Some(cells),
+        bytes: Some(bytes),
+        reason,
+    };
+    if total > i32::MAX as u128 {
+        return Err(too_large(format!(
+            "more than the {} cells a majorant grid can index",
+            i32::MAX
+        )));
+    }
+    crate::limits::check(bytes).map_err(|refusal| too_large(refusal.to_string()))?;
+    Ok(dims.as_ivec3())
 }
 
 /// Density bounds over a dense grid of coarse cells in index space.
@@ -71,53 +139,56 @@ impl MajorantGrid {
         let mut max = vec![f32::NEG_INFINITY; n];
         let mut min = vec![f32::INFINITY; n];
         let mut covered = vec![0u64; n];
-        let cell_i = cell.ceil().as_ivec3();
+        // Index arithmetic in i64: a sparse grid may hold voxels at both ends
+        // of the i32 range, whose differences overflow i32.
+        let cell_i = cell.ceil().as_i64vec3();
         // Voxel support of cell c: [first + c·cell, first + c·cell + span) per axis
         // (module doc), the same span for every cell as cells are whole voxels.
-        let first = (lo - ROUNDING_REACH).floor().as_ivec3();
-        let span = (lo + ROUNDING_REACH).floor().as_ivec3() - first + cell_i + IVec3::splat(2);
-        let support_lo = |c: IVec3| first + c * cell_i;
-        let support_volume = span.as_i64vec3().element_product() as u64;
+        let first = (lo - ROUNDING_REACH).floor().as_i64vec3();
+        let span = (lo + ROUNDING_REACH).floor().as_i64vec3() - first + cell_i + I64Vec3::splat(2);
+        let support_lo = |c: I64Vec3| first + c * cell_i;
+        // None when beyond u64 (cells of millions of voxels): never known covered.
+        let support_volume = u64::try_from(volume(span)).ok();
+        let last = dims.as_i64vec3() - I64Vec3::ONE;
+        let index = |x: i64, y: i64, z: i64| (x + dims.x as i64 * (y + dims.y as i64 * z)) as usize;
         for block in grid.blocks() {
-            let b_lo = block.min;
-            let b_hi = block.min + IVec3::splat(block.size - 1);
+            let b_lo = block.min.as_i64vec3();
+            let b_hi = b_lo + I64Vec3::splat(block.size as i64 - 1);
             let per_voxel = block.size == 8 && block.min_value != block.max_value;
             // Cells whose support meets the block.
-            let c_lo = div_floor(b_lo - first - span + IVec3::ONE, cell_i).max(IVec3::ZERO);
-            let c_hi = div_floor(b_hi - first, cell_i).min(dims - IVec3::ONE);
+            let c_lo = div_floor(b_lo - first - span + I64Vec3::ONE, cell_i).max(I64Vec3::ZERO);
+            let c_hi = div_floor(b_hi - first, cell_i).min(last);
             for z in c_lo.z..=c_hi.z {
                 for y in c_lo.y..=c_hi.y {
                     for x in c_lo.x..=c_hi.x {
-                        let c = IVec3::new(x, y, z);
-                        let s_lo = support_lo(c);
-                        let s_hi = s_lo + span - IVec3::ONE;
-                        let overlap =
-                            (s_hi.min(b_hi) - s_lo.max(b_lo) + IVec3::ONE).max(IVec3::ZERO);
-                        let volume = overlap.as_i64vec3().element_product() as u64;
-                        if volume == 0 {
+                        let s_lo = support_lo(I64Vec3::new(x, y, z));
+                        let s_hi = s_lo + span - I64Vec3::ONE;
+                        let overlap = volume(s_hi.min(b_hi) - s_lo.max(b_lo) + I64Vec3::ONE);
+                        if overlap == 0 {
                             continue;
                         }
-                        let i = (x + dims.x * (y + dims.y * z)) as usize;
+                        let i = index(x, y, z);
                         if !per_voxel {
                             max[i] = max[i].max(block.max_value);
                             min[i] = min[i].min(block.min_value);
                         }
-                        covered[i] += volume;
+                        covered[i] =
+                            covered[i].saturating_add(overlap.min(u64::MAX as u128) as u64);
                     }
                 }
             }
             if per_voxel {
                 // Leaf bricks vary inside: bound each cell by the voxels its support holds.
                 for v in 0..512 {
-                    let ijk = b_lo + IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
-                    let value = grid.value(ijk);
-                    let rel = ijk - first;
-                    let c0 = div_ceil(rel - span + IVec3::ONE, cell_i).max(IVec3::ZERO);
-                    let c1 = div_floor(rel, cell_i).min(dims - IVec3::ONE);
+                    let local = IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
+                    let value = grid.value(block.min + local);
+                    let rel = b_lo + local.as_i64vec3() - first;
+                    let c0 = div_ceil(rel - span + I64Vec3::ONE, cell_i).max(I64Vec3::ZERO);
+                    let c1 = div_floor(rel, cell_i).min(last);
                     for z in c0.z..=c1.z {
                         for y in c0.y..=c1.y {
                             for x in c0.x..=c1.x {
-                                let i = (x + dims.x * (y + dims.y * z)) as usize;
+                                let i = index(x, y, z);
                                 max[i] = max[i].max(value);
                                 min[i] = min[i].min(value);
                             }
@@ -129,7 +200,7 @@ impl MajorantGrid {
         let background = grid.background();
         for i in 0..n {
             // Bricks and tiles are disjoint: less coverage than the support means background voxels.
-            if covered[i] < support_volume {
+            if support_volume.is_none_or(|s| covered[i] < s) {
                 max[i] = max[i].max(background);
                 min[i] = min[i].min(background);
             }
@@ -143,72 +214,6 @@ impl MajorantGrid {
             max,
             min,
         }
-    }
-
-    /// The bounds over every point within `k` cells (per axis) of each cell:
-    /// max and min filters over the (2k + 1)³ neighbourhood, separable by axis.
-    ///
-    /// Neighbours outside the grid count as density 0 for the minimum, and so
-    /// do cells not inside `inside` (an index box beyond which the density
-    /// is 0 whatever the grid stores). Used by velocity motion blur; `k = 0`
-    /// returns the grid unchanged.
-    pub fn dilated(&self, k: IVec3, inside: (Vec3, Vec3)) -> MajorantGrid {
-        if k == IVec3::ZERO {
-            return self.clone();
-        }
-        let mut out = self.clone();
-        for (i, m) in out.min.iter_mut().enumerate() {
-            let n = i as i32;
-            let c = IVec3::new(
-                n % self.dims.x,
-                (n / self.dims.x) % self.dims.y,
-                n / (self.dims.x * self.dims.y),
-            );
-            let lo = self.origin + c.as_vec3() * self.cell;
-            let hi = lo + self.cell;
-            if lo.cmplt(inside.0).any() || hi.cmpgt(inside.1).any() {
-                *m = 0.0;
-            }
-        }
-        for axis in 0..3 {
-            let r = k[axis];
-            out.max = self.filter_axis(&out.max, axis, r, f32::max, None);
-            out.min = self.filter_axis(&out.min, axis, r, f32::min, Some(0.0));
-        }
-        out
-    }
-
-    /// One axis of a separable neighbourhood filter; `outside` is the value of cells beyond the grid.
-    fn filter_axis(
-        &self,
-        values: &[f32],
-        axis: usize,
-        r: i32,
-        op: fn(f32, f32) -> f32,
-        outside: Option<f32>,
-    ) -> Vec<f32> {
-        let d = self.dims;
-        let mut out = values.to_vec();
-        for z in 0..d.z {
-            for y in 0..d.y {
-                for x in 0..d.x {
-                    let c = IVec3::new(x, y, z);
-                    let i = (x + d.x * (y + d.y * z)) as usize;
-                    for o in -r..=r {
-                        let mut n = c;
-                        n[axis] += o;
-                        if n[axis] < 0 || n[axis] >= d[axis] {
-                            if let Some(v) = outside {
-                                out[i] = op(out[i], v);
-                            }
-                            continue;
-                        }
-                        out[i] = op(out[i], values[(n.x + d.x * (n.y + d.y * n.z)) as usize]);
-                    }
-                }
-            }
-        }
-        out
     }
 
     /// Index-space box the cells cover: `origin` to `origin + dims · cell`.

@@ -18,7 +18,9 @@ pub mod phase;
 pub mod region;
 pub mod voxel;
 
-pub use grid::{ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode};
+pub use grid::{
+    ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode, MajorantTooLarge,
+};
 pub use height_fog::HeightFog;
 pub use homogeneous::HomogeneousMedium;
 pub use interior::{InteriorContent, InteriorMedium, ShapeMask};

@@ -141,9 +141,12 @@ impl MotionLookup {
     }
 }
 
-/// Cells of dilation per axis for radius `r` voxels and cells of `cell` voxels.
-pub(crate) fn dilation_cells(r: Vec3, cell: Vec3) -> IVec3 {
-    (r / cell).ceil().as_ivec3()
+/// Cells of dilation per axis for radius `r` voxels and cells of `cell`
+/// voxels; `None` when that is not a count a grid can index (a displacement
+/// overflowing f32, or beyond 2³⁰ cells).
+pub(crate) fn dilation_cells(r: Vec3, cell: Vec3) -> Option<IVec3> {
+    let k = (r / cell).ceil();
+    (k.is_finite() && k.max_element() <= (1 << 30) as f32).then(|| k.as_ivec3())
 }
 
 /// The static majorant grid over the box `[lo, hi]` widened by `k` cells,
@@ -171,7 +174,12 @@ mod tests {
     fn motion_widens_the_majorants_by_whole_cells_covering_the_radius() {
         let cell = Vec3::splat(4.0);
         let r = Vec3::new(5.0, 8.0, 0.5);
-        assert_eq!(dilation_cells(r, cell), IVec3::new(2, 2, 1));
-        assert_eq!(dilation_cells(Vec3::ZERO, cell), IVec3::ZERO);
+        assert_eq!(dilation_cells(r, cell), Some(IVec3::new(2, 2, 1)));
+        assert_eq!(dilation_cells(Vec3::ZERO, cell), Some(IVec3::ZERO));
+        assert_eq!(
+            dilation_cells(Vec3::new(1.0, f32::INFINITY, 1.0), cell),
+            None
+        );
+        assert_eq!(dilation_cells(Vec3::splat(1e30), cell), None);
     }
 }

@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::film::merge::{merge, Merged};
-use crate::film::{denoise, image_io};
+use crate::film::{denoise, image_io, Film};
 use crate::render::output_safety::{identity, place_partial, Placement, Plan};
 use std::path::{Path, PathBuf};
 
@@ -38,6 +38,7 @@ pub fn merge_files(
         .iter()
         .map(|p| Ok((p.clone(), image_io::read_film_exr(p)?)))
         .collect::<Result<Vec<_>>>()?;
+    check_merged_size(&films)?;
     let mut merged = merge(&films)?;
     let extra = match denoise {
         true => denoise::denoise_film(&merged.film).map_err(denoise_error)?,
@@ -58,6 +59,31 @@ pub fn merge_files(
         .extend(place.note().map(|n| format!("note: {n}")));
     merged.written = place.exr;
     Ok(merged)
+}
+
+/// Refuses a merge whose film (the first piece's display window) is over
+/// the memory limit: the pieces' headers declare it, not their pixels.
+fn check_merged_size(pieces: &[(PathBuf, Film)]) -> Result<()> {
+    let Some((path, first)) = pieces.first() else {
+        return Ok(());
+    };
+    let (w, h) = first.display;
+    // Per pixel: coverage, counts and non-finite counts (u32 each), an f64
+    // sum per channel and a u32 count per layer with its own, f64 RGB splats.
+    let layers: u128 = first
+        .layers
+        .iter()
+        .map(|l| 8 * l.channels.len() as u128 + 4 * l.counts.is_some() as u128)
+        .sum();
+    let splats = 24 * first.splats.is_some() as u128;
+    let bytes = w as u128 * h as u128 * (12 + layers + splats);
+    crate::limits::check(bytes).map_err(|refusal| Error::Merge {
+        message: format!(
+            "{} declares a {w}x{h} image, whose merged film needs {}, {refusal}",
+            path.display(),
+            crate::limits::format_bytes(bytes)
+        ),
+    })
 }
 
 fn denoise_error(message: String) -> Error {

@@ -65,11 +65,6 @@ pub struct RenderOutput {
     pub truncated_interiors: u64,
 }
 
-/// The most memory a render may hold at its peak (64 GiB): larger images are
-/// refused before rendering on every machine, whatever the kernel would grant
-/// (a reservation can succeed with overcommit and fail only when touched).
-pub const MAX_PEAK_BYTES: u64 = 64 << 30;
-
 /// Bytes of the film per pixel: beauty sums and squares, finite and left-out counts.
 const FILM_PIXEL_BYTES: usize = 6 * 8 + 2 * 4;
 

@@ -32,7 +32,9 @@ use super::media::build_phase;
 use super::validate::Check;
 use crate::error::Result;
 use crate::math::color::Rgb;
-use crate::medium::{GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium};
+use crate::medium::{
+    GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, MajorantTooLarge, Medium,
+};
 use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid, VolumeError, MAX_VDB_BYTES};
 
 /// The fields of a `type = "vdb"` medium.
@@ -250,7 +252,40 @@ pub(crate) fn build_vdb_medium(
         majorant,
         cell_size: None,
     };
-    Ok(Medium::Grid(Arc::new(GridMedium::new_moving(density, params, motion))).moved_by(keys))
+    let medium = GridMedium::try_new_moving(density, params, motion)
+        .map_err(|e| majorant_error(desc, field, check, timing, &e))?;
+    Ok(Medium::Grid(Arc::new(medium)).moved_by(keys))
+}
+
+/// The error for a majorant grid over the memory limit, on the key that
+/// sizes it: the velocity (scale) for a moving medium, the grid for a still one.
+fn majorant_error(
+    desc: &VdbDesc,
+    field: &str,
+    check: &Check,
+    timing: &Timing,
+    e: &MajorantTooLarge,
+) -> crate::error::Error {
+    let Some(r) = e.motion_radius else {
+        return check.error(
+            &format!("{field}.grid"),
+            format!("grid '{}' needs a majorant grid of {}", desc.grid, e.grid),
+        );
+    };
+    let key = match desc.velocity_scale {
+        Some(_) => "velocity_scale",
+        None => "velocity_grid",
+    };
+    let shutter = timing.shutter.unwrap_or_default();
+    check.error(
+        &format!("{field}.{key}"),
+        format!(
+            "over the shutter {shutter:?} the medium moves up to {:.3e} voxels, so its majorant grid needs {}; \
+             a smaller velocity_scale or shutter moves it less",
+            r.max_element(),
+            e.grid
+        ),
+    )
 }
 
 /// The file of the frame being rendered: a pattern resolved, a plain path unchanged.

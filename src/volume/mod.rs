@@ -54,6 +54,9 @@ mod vec3;
 use std::path::{Path, PathBuf};
 
 pub use error::VolumeError;
+/// For tests that build sparse grids no dense array can hold.
+#[cfg(test)]
+pub(crate) use grid::GridBuilder;
 pub use grid::{Block, FloatGrid, ValueCensus};
 pub use info::info_report;
 pub use transform::GridTransform;
@@ -114,8 +117,8 @@ impl VdbFile {
     /// Reads a file's header and grid descriptors (all grids, supported or not).
     ///
     /// Refuses what is not a regular file (a FIFO would block, /dev/zero never
-    /// ends) and files larger than [`MAX_VDB_BYTES`] or than the memory this
-    /// machine can give, before reading a byte.
+    /// ends) and files larger than [`MAX_VDB_BYTES`] or than the memory limit
+    /// ([`crate::limits`]), before reading a byte.
     pub fn open(path: &Path) -> Result<VdbFile, VolumeError> {
         let io = |source| VolumeError::Io {
             path: path.to_path_buf(),
@@ -125,14 +128,17 @@ impl VdbFile {
             return Err(io(std::io::Error::other(problem)));
         }
         let mut file = std::fs::File::open(path).map_err(io)?;
-        let len = file.metadata().map_err(io)?.len() as usize;
-        let mut data = Vec::new();
-        if data.try_reserve_exact(len).is_err() {
+        let len = file.metadata().map_err(io)?.len();
+        // Held whole in memory: the file's length is the allocation.
+        if let Err(refusal) = crate::limits::check(len as u128) {
             return Err(io(std::io::Error::other(format!(
-                "is {:.1} GB, more than this machine's memory can hold",
-                len as f64 / 1e9
+                "is {}, {refusal}",
+                crate::limits::format_bytes(len as u128)
             ))));
         }
+        let mut data = Vec::new();
+        data.try_reserve_exact(len as usize)
+            .map_err(|e| io(std::io::Error::other(e)))?;
         std::io::Read::read_to_end(&mut file, &mut data).map_err(io)?;
         VdbFile::from_bytes(path, data)
     }

@@ -19,6 +19,10 @@ mod frames_cli;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Largest image, grid or file brume allocates, in GB (default: half of
+    /// this machine's memory, or BRUME_MEMORY_LIMIT); see docs/robustness.md "Limits".
+    #[arg(long, global = true, value_name = "GB", allow_negative_numbers = true, value_parser = brume::limits::parse_gb)]
+    memory_limit: Option<u64>,
 }
 
 #[derive(Subcommand)]
@@ -166,13 +170,20 @@ struct RenderArgs {
 fn main() {
     restore_default_sigpipe();
     let cli = Cli::parse();
-    let result = match cli.command {
+    let result = match cli.memory_limit {
+        Some(bytes) => {
+            brume::limits::set_memory_limit(bytes);
+            Ok(())
+        }
+        None => brume::limits::check_setting().map(|_| ()),
+    };
+    let result = result.and_then(|()| match cli.command {
         Command::Render(args) => run_render(*args),
         Command::Info(args) => run_info(args),
         Command::Airlight(args) => run_airlight(args),
         Command::Merge(args) => run_merge(args),
         Command::Compare(args) => run_compare(args),
-    };
+    });
     match result {
         Ok(code) => std::process::exit(code),
         Err(e) => {
@@ -751,30 +762,18 @@ fn warn_extensions(exr: &Path, png: &Path) {
     }
 }
 
-/// Refuses an image too large for this machine before rendering: a failed
-/// allocation mid-render would abort the process instead of giving an error.
+/// Refuses an image over the memory limit (or more than this machine can
+/// give) before rendering: a failed allocation mid-render would abort the
+/// process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, false);
-    let limit = brume::render::MAX_PEAK_BYTES;
-    let why = if bytes > limit {
-        format!("more than brume's limit of {:.1} GB", limit as f64 / 1e9)
-    } else {
-        // Reserving touches no page, so the probe itself costs nothing.
-        let fits = usize::try_from(bytes)
-            .ok()
-            .is_some_and(|b| Vec::<u8>::new().try_reserve_exact(b).is_ok());
-        if fits {
-            return Ok(());
-        }
-        "more than this machine can give".to_string()
-    };
-    Err(Error::Scene {
+    brume::limits::check(bytes as u128).map_err(|refusal| Error::Scene {
         file: file.to_path_buf(),
         field: "camera.resolution".into(),
         message: format!(
-            "a {w}x{h} image needs {:.1} GB of memory, {why}",
-            bytes as f64 / 1e9
+            "a {w}x{h} image needs {} of memory, {refusal}",
+            brume::limits::format_bytes(bytes as u128)
         ),
     })
 }

@@ -170,6 +170,7 @@ pub fn read_film_exr(path: &Path) -> Result<Film> {
         message,
     };
     super::check_input(path, "EXR")?;
+    super::header::check_exr(path, super::header::Keep::AllChannels)?;
     let image = exr::prelude::read_all_flat_layers_from_file(path)
         .map_err(|e| bad(format!("cannot read EXR: {e}")))?;
     let main = image
