@@ -9,6 +9,7 @@
 pub mod airlight;
 pub mod camera;
 pub mod checkpoint;
+pub mod cli_values;
 pub mod color;
 pub mod compare;
 pub mod denoise;
