@@ -250,7 +250,7 @@ fn render_in_pool(
                 observe(&Image {
                     width: w,
                     height: h,
-                    pixels: film.iter().map(Pixel::mean).collect(),
+                    pixels: film.par_iter().map(Pixel::mean).collect(),
                     spp: spp_done,
                     partial: true,
                 });
@@ -264,7 +264,8 @@ fn render_in_pool(
     }
     bar.finish_and_clear();
     let nonfinite: u64 = film.iter().map(|p| p.nonfinite as u64).sum();
-    let pixels = film.iter().map(Pixel::mean).collect();
+    // In parallel: after a stop request this stands between the request and the exit.
+    let pixels = film.par_iter().map(Pixel::mean).collect();
     let held = SampleRange::new(first, first + spp_done);
     RenderOutput {
         image: Image {

@@ -17,8 +17,8 @@ use crate::error::{Error, Result};
 use crate::film::{format_ranges, parse_ranges, Film, Layer, Provenance, Rect};
 use exr::meta::attribute::{AttributeValue, IntegerBounds, Text};
 use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer as ExrLayer,
-    LayerAttributes, SmallVec, Vec2, WritableImage,
+    AnyChannel, AnyChannels, FlatSamples, Image as ExrImage, Layer as ExrLayer, LayerAttributes,
+    SmallVec, Vec2, WritableImage,
 };
 use std::collections::HashMap;
 use std::path::Path;
@@ -68,7 +68,7 @@ pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChanne
     let layer = ExrLayer::new(
         (w.width() as usize, w.height() as usize),
         attributes,
-        Encoding::SMALL_LOSSLESS,
+        super::exr_encoding(!film.provenance.complete()),
         AnyChannels::sort(channels),
     );
     let mut image = ExrImage::from_layer(layer);
