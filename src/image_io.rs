@@ -6,7 +6,6 @@
 
 use crate::color::Rgb;
 use crate::error::{Error, Result};
-use crate::tonemap::Tonemap;
 use exr::prelude::ReadChannels as _;
 use exr::prelude::ReadLayers as _;
 use std::path::{Path, PathBuf};
@@ -39,7 +38,12 @@ fn set_pending(tmp: &Path, pending: bool) {
 }
 
 mod film_exr;
+mod png_write;
 pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_with};
+pub use png_write::{
+    encode_png_tonemapped, write_encoded_png, write_png, write_png_srgb8, write_png_tonemapped,
+    EncodedPng,
+};
 
 /// A finished (or partial) image in linear RGB with what produced it.
 pub struct Image {
@@ -335,48 +339,6 @@ pub fn read_png(path: &Path) -> Result<PngSamples> {
     })
 }
 
-/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and clamping.
-pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
-    write_png_tonemapped(path, image, exposure, Tonemap::Clip)
-}
-
-/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and the tone curve `tonemap`.
-pub fn write_png_tonemapped(
-    path: &Path,
-    image: &Image,
-    exposure: f32,
-    tonemap: Tonemap,
-) -> Result<()> {
-    use rayon::prelude::*;
-    let scale = exposure.exp2();
-    let mut bytes = vec![0u8; image.pixels.len() * 3];
-    // In parallel: the sRGB curve of a 4096² image takes half a second on one
-    // core, which an interrupted render (answering within a second) cannot spare.
-    const ROW: usize = 4096;
-    bytes
-        .par_chunks_mut(3 * ROW)
-        .zip(image.pixels.par_chunks(ROW))
-        .for_each(|(out, pixels)| {
-            for (o, c) in out.chunks_exact_mut(3).zip(pixels) {
-                o[0] = tonemap.srgb8(c.r, scale);
-                o[1] = tonemap.srgb8(c.g, scale);
-                o[2] = tonemap.srgb8(c.b, scale);
-            }
-        });
-    let (w, h) = (image.width as u32, image.height as u32);
-    write_rgb8(path, w, h, &bytes, compression_for(image.partial))
-}
-
-/// PNG compression: the default for a finished image; the fast kind (several
-/// times faster, a slightly larger file) for a partial one, written during a
-/// render (checkpoints) or after a stop request, when time matters most.
-fn compression_for(partial: bool) -> png::Compression {
-    match partial {
-        true => png::Compression::Fast,
-        false => png::Compression::Default,
-    }
-}
-
 /// EXR encoding: small files for a finished image; run-length (about as fast
 /// as no compression) for a partial one, for the same reason as [`compression_for`].
 pub(crate) fn exr_encoding(partial: bool) -> exr::prelude::Encoding {
@@ -389,42 +351,6 @@ pub(crate) fn exr_encoding(partial: bool) -> exr::prelude::Encoding {
         },
         false => Encoding::SMALL_LOSSLESS,
     }
-}
-
-/// Writes ready-made 8-bit sRGB pixels (row-major RGB, e.g. a plot) as a PNG.
-pub fn write_png_srgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    write_rgb8(path, width, height, rgb, png::Compression::Default)
-}
-
-fn write_rgb8(
-    path: &Path,
-    width: u32,
-    height: u32,
-    rgb: &[u8],
-    compression: png::Compression,
-) -> Result<()> {
-    if rgb.len() != width as usize * height as usize * 3 {
-        return Err(output_error(path, "pixel buffer does not match the size"));
-    }
-    write_atomically(path, |tmp| {
-        encode_png(tmp, (width, height), rgb, compression)
-    })
-}
-
-fn encode_png(
-    tmp: &Path,
-    (width, height): (u32, u32),
-    rgb: &[u8],
-    compression: png::Compression,
-) -> std::result::Result<(), String> {
-    let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
-    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder.set_compression(compression);
-    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-    writer.write_image_data(rgb).map_err(|e| e.to_string())?;
-    writer.finish().map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

@@ -482,9 +482,10 @@ fn render_and_write(
     Ok(0)
 }
 
-/// Writes the EXR (with the AOV and denoised layers) and the PNG preview at
-/// the same time: after a stop request the writes are all that stands
-/// between the request and the exit.
+/// Writes the EXR (with the AOV and denoised layers), then the PNG preview,
+/// encoding the PNG while the EXR is written: after a stop request the writes
+/// are all that stands between the request and the exit. The PNG is put in
+/// place only once the EXR is, so a failed EXR leaves both files as they were.
 fn write_images(
     job: &Job,
     scene: &brume::integrator::Scene,
@@ -506,12 +507,16 @@ fn write_images(
     };
     let (exr, png) = std::thread::scope(|s| {
         let exr = s.spawn(write_exr);
-        let png = image_io::write_png_tonemapped(png_path, &out.image, args.exposure, args.tonemap);
+        let png = image_io::encode_png_tonemapped(&out.image, args.exposure, args.tonemap);
         (exr.join(), png)
     });
     // A panic in the EXR writer is a bug: let it end the process as it would have.
     exr.unwrap_or_else(|p| std::panic::resume_unwind(p))?;
-    png
+    let png = png.map_err(|message| Error::Output {
+        path: png_path.to_path_buf(),
+        message,
+    })?;
+    image_io::write_encoded_png(png_path, &png)
 }
 
 fn run_merge(args: MergeArgs) -> Result<i32> {
