@@ -31,8 +31,12 @@ const UPDATE_IMAGE_V3: u8 = 6;
 const CHANNELS: [&str; 3] = ["R", "G", "B"];
 /// Most pixels in one update packet (12 bytes each: about 3 MB).
 const PIXELS_PER_PACKET: usize = 1 << 18;
-/// How long one write may wait for tev to take data before the viewer counts as gone.
-const WRITE_TIMEOUT: Duration = Duration::from_secs(2);
+/// A viewer that takes less than [`STALL_BYTES`] in this long counts as gone.
+const STALL_TIME: Duration = Duration::from_secs(2);
+/// See [`STALL_TIME`]: a trickle (TCP window probes) is not a viewer reading.
+const STALL_BYTES: usize = 64 << 10;
+/// The longest one socket write blocks, so that a stall is noticed in time.
+const WRITE_SLICE: Duration = Duration::from_millis(250);
 /// Pixel bytes the queue of unsent frames may hold; past it the oldest are
 /// dropped (the newest is always kept), so a slow viewer costs memory for
 /// about one frame of a large image, not one per pass.
@@ -151,7 +155,7 @@ impl Display {
     pub fn connect(address: &str, name: &str) -> Result<Display> {
         let stream = open(address)?;
         let _ = stream.set_nodelay(true);
-        let _ = stream.set_write_timeout(Some(WRITE_TIMEOUT));
+        let _ = stream.set_write_timeout(Some(WRITE_SLICE));
         let shared = Arc::new(Shared {
             state: Mutex::new(State::default()),
             changed: Condvar::new(),
@@ -311,29 +315,77 @@ impl Writer {
 
     /// Sends `image` in bands of rows (creating tev's image first, when its size is new).
     fn send(&mut self, image: &Image) -> std::io::Result<()> {
+        let mut progress = Progress::new();
         if self.created != Some((image.width, image.height)) {
             let packet = create_image_packet(&self.name, image.width, image.height);
-            self.stream.write_all(&packet)?;
+            progress.write_all(&mut self.stream, &packet)?;
             self.created = Some((image.width, image.height));
         }
         let rows = (PIXELS_PER_PACKET / image.width.max(1)).max(1);
         let mut y0 = 0;
         while y0 < image.height {
             let y1 = (y0 + rows).min(image.height);
-            self.stream
-                .write_all(&update_image_packet(&self.name, image, y0, y1))?;
+            let packet = update_image_packet(&self.name, image, y0, y1);
+            progress.write_all(&mut self.stream, &packet)?;
             y0 = y1;
         }
-        self.stream.flush()
+        Ok(())
     }
 }
 
-/// A send error in words: a viewer that takes no data is named as such.
+/// When the last [`STALL_BYTES`] were sent: a socket timeout alone would let
+/// a viewer that takes a few bytes per timeout (TCP window probes) hold a
+/// frame forever, and a fixed window would let a stall after a burst last two windows.
+struct Progress {
+    since: Instant,
+    bytes: usize,
+}
+
+impl Progress {
+    fn new() -> Progress {
+        Progress {
+            since: Instant::now(),
+            bytes: 0,
+        }
+    }
+
+    /// Writes all of `bytes`, or fails once [`STALL_TIME`] passes without [`STALL_BYTES`] sent.
+    fn write_all(&mut self, stream: &mut TcpStream, mut bytes: &[u8]) -> std::io::Result<()> {
+        use std::io::ErrorKind;
+        while !bytes.is_empty() {
+            match stream.write(bytes) {
+                Ok(0) => return Err(ErrorKind::WriteZero.into()),
+                Ok(n) => {
+                    bytes = &bytes[n..];
+                    self.bytes += n;
+                    if self.bytes >= STALL_BYTES {
+                        *self = Progress::new();
+                    }
+                }
+                // A write slice ran out or a signal came: the clock decides.
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        ErrorKind::WouldBlock | ErrorKind::TimedOut | ErrorKind::Interrupted
+                    ) => {}
+                Err(e) => return Err(e),
+            }
+            if self.since.elapsed() >= STALL_TIME {
+                return Err(ErrorKind::TimedOut.into());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A send error in words: a viewer that stopped reading is named as such.
 fn describe(e: &std::io::Error) -> String {
     match e.kind() {
-        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut => {
-            format!("tev took no data for {} s", WRITE_TIMEOUT.as_secs_f64())
-        }
+        std::io::ErrorKind::TimedOut => format!(
+            "tev took less than {} KB in {} s",
+            STALL_BYTES >> 10,
+            STALL_TIME.as_secs_f64()
+        ),
         _ => e.to_string(),
     }
 }
