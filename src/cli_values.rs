@@ -56,16 +56,19 @@ fn whole_i128(text: &str) -> Option<i128> {
     t.parse().ok()
 }
 
-/// A number of seconds above 0 and at most [`MAX_SECONDS`] (`--time`, `--checkpoint`).
+/// A number of seconds from a nanosecond to [`MAX_SECONDS`] (`--time`, `--checkpoint`).
 pub fn seconds(text: &str) -> Parsed<Duration> {
-    let expected = || {
-        format!("expected a number of seconds above 0 and at most {MAX_SECONDS} (about 31 years)")
-    };
+    let expected =
+        || format!("expected a number of seconds from 1e-9 to {MAX_SECONDS} (about 31 years)");
     let value = number(text).ok_or_else(expected)?;
     if !(value > 0.0 && value <= MAX_SECONDS as f64) {
         return Err(expected());
     }
-    Duration::try_from_secs_f64(value).map_err(|_| expected())
+    // Below a nanosecond Duration rounds to zero: a checkpoint every 0 s would write without end.
+    Duration::try_from_secs_f64(value)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .ok_or_else(expected)
 }
 
 /// `text` as a finite decimal number (`1.5`, `-2`, `1e3`; not `inf` or `nan`).
@@ -237,7 +240,7 @@ mod tests {
         assert_eq!(seconds("1.5"), Ok(Duration::from_millis(1500)));
         assert_eq!(seconds("1e9"), Ok(Duration::from_secs(MAX_SECONDS)));
         for bad in [
-            "0", "-1", "1e20", "1e300", "nan", "inf", "infinity", "", "1s",
+            "0", "-1", "1e20", "1e300", "1e-300", "nan", "inf", "infinity", "", "1s",
         ] {
             assert!(seconds(bad).is_err(), "{bad}");
         }
