@@ -158,7 +158,7 @@ fn a_finished_render_exits_soon_though_the_viewer_never_reads() {
         "took {took:?}, {alone:?} without the viewer: {err}"
     );
     assert!(err.contains("tev took less than 64 KB in 2 s"), "{err}");
-    let (w, h, _) = brume::image_io::read_exr(&dir.path().join("s.exr")).unwrap();
+    let (w, h, _) = brume::film::image_io::read_exr(&dir.path().join("s.exr")).unwrap();
     assert_eq!((w, h), (512, 512));
 }
 
@@ -224,7 +224,7 @@ fn sigint_on_a_large_image_writes_and_exits_within_a_second() {
             continue;
         }
         assert!(err.contains("interrupted: saved the"), "{err}");
-        let (w, h, _) = brume::image_io::read_exr(&dir.path().join("s.exr")).unwrap();
+        let (w, h, _) = brume::film::image_io::read_exr(&dir.path().join("s.exr")).unwrap();
         assert_eq!((w, h), (2048, 2048));
         assert!(dir.path().join("s.png").exists());
         answers.push(answered);
