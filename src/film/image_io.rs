@@ -5,7 +5,6 @@
 //! interrupted write never destroys an existing image.
 
 use crate::error::{Error, Result};
-use crate::film::tonemap::Tonemap;
 use crate::math::color::Rgb;
 use exr::prelude::ReadChannels as _;
 use exr::prelude::ReadLayers as _;
@@ -40,7 +39,12 @@ fn set_pending(tmp: &Path, pending: bool) {
 
 mod film_exr;
 mod header;
+mod png_write;
 pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_with};
+pub use png_write::{
+    encode_png_tonemapped, write_encoded_png, write_png, write_png_srgb8, write_png_tonemapped,
+    EncodedPng,
+};
 
 /// A finished (or partial) image in linear RGB with what produced it.
 pub struct Image {
@@ -106,13 +110,13 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
 pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     use exr::meta::attribute::{AttributeValue, Text};
     use exr::prelude::{
-        Encoding, Image as ExrImage, Layer, LayerAttributes, SpecificChannels, Vec2, WritableImage,
+        Image as ExrImage, Layer, LayerAttributes, SpecificChannels, Vec2, WritableImage,
     };
     let (w, h) = (image.width, image.height);
     let layer = Layer::new(
         (w, h),
         LayerAttributes::named("rgb"),
-        Encoding::SMALL_LOSSLESS,
+        exr_encoding(image.partial),
         SpecificChannels::rgb(|p: Vec2<usize>| {
             let c = image.pixels[p.y() * w + p.x()];
             (c.r, c.g, c.b)
@@ -312,44 +316,18 @@ pub fn read_png(path: &Path) -> Result<PngSamples> {
     })
 }
 
-/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and clamping.
-pub fn write_png(path: &Path, image: &Image, exposure: f32) -> Result<()> {
-    write_png_tonemapped(path, image, exposure, Tonemap::Clip)
-}
-
-/// Writes an 8-bit sRGB PNG after scaling by 2^exposure and the tone curve `tonemap`.
-pub fn write_png_tonemapped(
-    path: &Path,
-    image: &Image,
-    exposure: f32,
-    tonemap: Tonemap,
-) -> Result<()> {
-    let scale = exposure.exp2();
-    let mut bytes = Vec::with_capacity(image.width * image.height * 3);
-    for c in &image.pixels {
-        for v in [c.r, c.g, c.b] {
-            bytes.push(tonemap.srgb8(v, scale));
-        }
+/// EXR encoding: small files for a finished image; run-length (about as fast
+/// as no compression) for a partial one, for the same reason as [`compression_for`].
+pub(crate) fn exr_encoding(partial: bool) -> exr::prelude::Encoding {
+    use exr::prelude::{Blocks, Compression, Encoding, LineOrder};
+    match partial {
+        true => Encoding {
+            compression: Compression::RLE,
+            blocks: Blocks::ScanLines,
+            line_order: LineOrder::Increasing,
+        },
+        false => Encoding::SMALL_LOSSLESS,
     }
-    write_png_srgb8(path, image.width as u32, image.height as u32, &bytes)
-}
-
-/// Writes ready-made 8-bit sRGB pixels (row-major RGB, e.g. a plot) as a PNG.
-pub fn write_png_srgb8(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
-    if rgb.len() != width as usize * height as usize * 3 {
-        return Err(output_error(path, "pixel buffer does not match the size"));
-    }
-    write_atomically(path, |tmp| encode_png(tmp, width, height, rgb))
-}
-
-fn encode_png(tmp: &Path, width: u32, height: u32, rgb: &[u8]) -> std::result::Result<(), String> {
-    let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
-    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-    writer.write_image_data(rgb).map_err(|e| e.to_string())?;
-    writer.finish().map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

@@ -21,6 +21,7 @@ pub mod tonemap;
 use crate::film::image_io::{Image, NamedChannel};
 use crate::integrator::aov::Aov;
 use crate::math::color::Rgb;
+use rayon::prelude::*;
 
 mod pixel;
 mod range;
@@ -231,7 +232,11 @@ impl Film {
         Image {
             width: self.window.width() as usize,
             height: self.window.height() as usize,
-            pixels: (0..self.window.area()).map(|i| self.pixel(i)).collect(),
+            // In parallel: after a stop request this stands between the request and the exit.
+            pixels: (0..self.window.area())
+                .into_par_iter()
+                .map(|i| self.pixel(i))
+                .collect(),
             spp: self.provenance.spp_held(),
             partial: !self.provenance.complete(),
         }

@@ -9,8 +9,8 @@
 
 use crate::math::color::linear_to_srgb;
 
-/// How the PNG preview maps linear radiance to display values.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// How the PNG preview maps linear radiance to display values (`--tonemap aces|clip`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Tonemap {
     /// Filmic ACES-like curve (the default for previews).
     #[default]
@@ -20,15 +20,6 @@ pub enum Tonemap {
 }
 
 impl Tonemap {
-    /// Parses `aces` or `clip`, the names used on the command line.
-    pub fn from_name(name: &str) -> Option<Tonemap> {
-        match name {
-            "aces" => Some(Tonemap::Aces),
-            "clip" => Some(Tonemap::Clip),
-            _ => None,
-        }
-    }
-
     /// Display-linear value in [0, 1] of the linear value `v` (already exposed).
     pub fn apply(self, v: f32) -> f32 {
         match self {
@@ -85,9 +76,10 @@ mod tests {
     }
 
     #[test]
-    fn names_parse() {
-        assert_eq!(Tonemap::from_name("aces"), Some(Tonemap::Aces));
-        assert_eq!(Tonemap::from_name("clip"), Some(Tonemap::Clip));
-        assert_eq!(Tonemap::from_name("reinhard"), None);
+    fn command_line_names_are_aces_and_clip() {
+        use clap::ValueEnum;
+        assert_eq!(Tonemap::from_str("aces", false), Ok(Tonemap::Aces));
+        assert_eq!(Tonemap::from_str("clip", false), Ok(Tonemap::Clip));
+        assert!(Tonemap::from_str("reinhard", false).is_err());
     }
 }

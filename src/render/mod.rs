@@ -9,6 +9,7 @@
 //! scheduling.
 
 pub mod checkpoint;
+pub mod cli_values;
 pub mod display;
 mod estimator;
 mod group;

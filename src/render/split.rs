@@ -8,7 +8,8 @@
 //! N pieces merge into the single render.
 
 use crate::error::{Error, Result};
-use crate::film::{parse_range, Rect, SampleRange};
+use crate::film::{Rect, SampleRange};
+use crate::render::cli_values;
 use crate::render::Part;
 
 /// What `--task-index`/`--task-count` divide among the tasks.
@@ -24,16 +25,16 @@ pub enum SplitBy {
 #[derive(clap::Args, Clone, Debug)]
 pub struct SplitArgs {
     /// Render only the pixels x0..x1 by y0..y1 (x1, y1 excluded): the EXR's data window; the display window stays the full frame.
-    #[arg(long, value_name = "X0,X1,Y0,Y1")]
-    pub crop: Option<String>,
+    #[arg(long, value_name = "X0,X1,Y0,Y1", value_parser = cli_values::crop)]
+    pub crop: Option<Rect>,
     /// Render only sample indices START..END (END excluded) of every pixel, to be merged with `brume merge`.
-    #[arg(long, value_name = "START..END")]
-    pub samples: Option<String>,
+    #[arg(long, value_name = "START..END", value_parser = cli_values::samples)]
+    pub samples: Option<SampleRange>,
     /// This task's index, 0-based (default: JOB_COMPLETION_INDEX, as Kubernetes Indexed Jobs set it).
-    #[arg(long, value_name = "I", requires = "task_count")]
+    #[arg(long, allow_negative_numbers = true, value_name = "I", requires = "task_count", value_parser = cli_values::whole(0u32, u32::MAX - 1))]
     pub task_index: Option<u32>,
     /// Split the render into this many tasks and render task I's share (see --split).
-    #[arg(long, value_name = "N")]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = cli_values::whole(1u32, u32::MAX))]
     pub task_count: Option<u32>,
     /// What the tasks share: the sample range (every task renders every pixel) or tiles (bands of rows).
     #[arg(long, value_enum, default_value_t = SplitBy::Samples)]
@@ -62,8 +63,8 @@ impl SplitArgs {
             }
         };
         Ok(SplitRequest {
-            crop: self.crop.clone(),
-            samples: self.samples.clone(),
+            crop: self.crop,
+            samples: self.samples,
             task,
             by: self.split,
         })
@@ -74,9 +75,9 @@ impl SplitArgs {
 #[derive(Clone, Debug)]
 pub struct SplitRequest {
     /// `--crop x0,x1,y0,y1`.
-    pub crop: Option<String>,
+    pub crop: Option<Rect>,
     /// `--samples START..END`.
-    pub samples: Option<String>,
+    pub samples: Option<SampleRange>,
     /// (task index, task count).
     pub task: Option<(u32, u32)>,
     /// `--split`.
@@ -94,32 +95,34 @@ fn argument(name: &str, message: String) -> Error {
 pub fn task_index(flag: Option<u32>, env: Option<String>) -> Result<Option<u32>> {
     match (flag, env) {
         (Some(i), _) => Ok(Some(i)),
-        (None, Some(text)) => text.trim().parse().map(Some).map_err(|_| {
-            argument(
-                "JOB_COMPLETION_INDEX",
-                format!("expected a task index (0, 1, 2, ...), got `{text}`"),
-            )
-        }),
+        (None, Some(text)) => cli_values::whole(0u32, u32::MAX - 1)(&text)
+            .map(Some)
+            .map_err(|expected| {
+                argument(
+                    "JOB_COMPLETION_INDEX",
+                    format!("{expected} (a task index), got `{text}`"),
+                )
+            }),
         (None, None) => Ok(None),
     }
 }
 
 /// The part of a `width`×`height`, `spp`-sample render that `request` selects.
 pub fn resolve_part(width: u32, height: u32, spp: u32, request: &SplitRequest) -> Result<Part> {
-    let mut crop = match &request.crop {
-        Some(text) => parse_crop(text, width, height)?,
+    let mut crop = match request.crop {
+        Some(c) => inside_frame(c, width, height)?,
         None => Rect::full(width, height),
     };
-    let mut samples = match &request.samples {
-        Some(text) => parse_range(text).filter(|r| r.end <= spp).ok_or_else(|| {
-            argument(
+    let mut samples = match request.samples {
+        Some(r) if r.end > spp => {
+            return Err(argument(
                 "--samples",
                 format!(
-                    "expected START..END with 0 <= START < END <= {spp} (the render's spp; \
-                         raise it with --spp), got `{text}`"
+                    "{r} ends after the render's {spp} samples per pixel (raise them with --spp)"
                 ),
-            )
-        })?,
+            ))
+        }
+        Some(r) => r,
         None => SampleRange::new(0, spp),
     };
     if let Some((index, count)) = request.task {
@@ -162,28 +165,18 @@ fn share(index: u32, count: u32, total: u32) -> (u32, u32) {
     (at(index), at(index + 1))
 }
 
-/// `x0,x1,y0,y1`, half-open pixel bounds inside the frame.
-fn parse_crop(text: &str, width: u32, height: u32) -> Result<Rect> {
-    let bad = || {
-        argument(
+/// `crop` if it lies inside the `width`×`height` frame.
+fn inside_frame(crop: Rect, width: u32, height: u32) -> Result<Rect> {
+    if crop.x1 > width || crop.y1 > height {
+        return Err(argument(
             "--crop",
             format!(
-                "expected x0,x1,y0,y1 with 0 <= x0 < x1 <= {width} and 0 <= y0 < y1 <= {height} \
-                 (pixel bounds, x1 and y1 excluded), got `{text}`"
+                "{crop} reaches outside the {width}x{height} image: \
+                 X1 must be at most {width} and Y1 at most {height} (X1 and Y1 excluded)"
             ),
-        )
-    };
-    let values: Vec<u32> = text
-        .split(',')
-        .map(|v| v.trim().parse().map_err(|_| bad()))
-        .collect::<Result<_>>()?;
-    let [x0, x1, y0, y1] = values[..] else {
-        return Err(bad());
-    };
-    if x0 >= x1 || x1 > width || y0 >= y1 || y1 > height {
-        return Err(bad());
+        ));
     }
-    Ok(Rect { x0, x1, y0, y1 })
+    Ok(crop)
 }
 
 #[cfg(test)]
@@ -196,8 +189,8 @@ mod tests {
         task: Option<(u32, u32)>,
     ) -> SplitRequest {
         SplitRequest {
-            crop: crop.map(String::from),
-            samples: samples.map(String::from),
+            crop: crop.map(|c| cli_values::crop(c).unwrap()),
+            samples: samples.map(|r| cli_values::samples(r).unwrap()),
             task,
             by: SplitBy::Samples,
         }
@@ -241,10 +234,8 @@ mod tests {
     fn bad_splits_name_the_flag() {
         let err = |r: SplitRequest| resolve_part(8, 6, 64, &r).unwrap_err().to_string();
         assert!(err(request(Some("0,9,0,6"), None, None)).contains("--crop"));
-        assert!(err(request(Some("3,3,0,6"), None, None)).contains("--crop"));
-        assert!(err(request(Some("0,1,0"), None, None)).contains("--crop"));
+        assert!(err(request(Some("0,8,0,7"), None, None)).contains("--crop"));
         assert!(err(request(None, Some("0..65"), None)).contains("--samples"));
-        assert!(err(request(None, Some("8..4"), None)).contains("--samples"));
         assert!(err(request(None, None, Some((4, 4)))).contains("--task-index"));
         assert!(err(request(None, Some("0..2"), Some((0, 3)))).contains("--task-count"));
         assert!(task_index(None, Some("x".into())).is_err());

@@ -166,7 +166,12 @@ pub fn resolve_frame(
     offset: i64,
     missing: MissingFrames,
 ) -> Result<PathBuf, String> {
-    let wanted = frame + offset;
+    let wanted = frame.checked_add(offset).ok_or_else(|| {
+        format!(
+            "frame {frame}: animation.frame_offset {offset} takes the file's frame number \
+             outside the range of frame numbers (64-bit)"
+        )
+    })?;
     let path = substitute(pattern, wanted);
     if path.exists() {
         // There but not readable (a FIFO, device or folder): say what it is, not "missing".
@@ -191,7 +196,7 @@ pub fn resolve_frame(
     };
     let chosen = match missing {
         MissingFrames::Hold => wanted.clamp(first, last),
-        _ => first + (wanted - first).rem_euclid(last - first + 1),
+        _ => repeat(wanted, first, last),
     };
     let held = substitute(pattern, chosen);
     if held.is_file() {
@@ -202,6 +207,15 @@ pub fn resolve_frame(
             held.display()
         ))
     }
+}
+
+/// The frame of `first..=last` that `wanted` falls on when the files repeat.
+/// In 128 bits: the period and the offset from `first` can exceed i64 when
+/// the files' numbers lie near both of its ends; the result lies in `first..=last`.
+fn repeat(wanted: i64, first: i64, last: i64) -> i64 {
+    let period = last as i128 - first as i128 + 1;
+    let chosen = first as i128 + (wanted as i128 - first as i128).rem_euclid(period);
+    chosen as i64
 }
 
 /// Refuses keyframes written in a form brume does not read (an array of
@@ -235,49 +249,73 @@ pub fn reject_keyframes(value: &toml::Value, path: &str) -> Result<(), (String, 
     Ok(())
 }
 
-/// Parses a frame list: `1-100`, `1,3,7-20:2`, `-5--1`; in the order written.
+/// Most frames one `--frames` list may name.
+pub const MAX_FRAMES: usize = 1_000_000;
+
+/// Parses a frame list: `1-100`, `1,3,7-20:2`, `-5--1`; in the order written,
+/// at most [`MAX_FRAMES`] frames in all.
 pub fn parse_frames(text: &str) -> Result<Vec<i64>, String> {
     let mut out = Vec::new();
     for part in text.split(',').map(str::trim) {
-        let (range, step) = match part.split_once(':') {
-            Some((r, s)) => {
-                let step: i64 = s
-                    .parse()
-                    .map_err(|_| format!("bad step `{s}` in `{part}`"))?;
-                if step <= 0 {
-                    return Err(format!("step must be at least 1 in `{part}`"));
-                }
-                (r, step)
-            }
-            None => (part, 1),
-        };
-        // the range dash is the first '-' after a leading digit (so negative frames parse)
-        let split = range
-            .char_indices()
-            .skip(1)
-            .find(|&(i, c)| c == '-' && range.as_bytes()[i - 1].is_ascii_digit())
-            .map(|(i, _)| i);
-        let num = |s: &str| {
-            s.trim()
-                .parse::<i64>()
-                .map_err(|_| format!("bad frame `{s}` in `{part}`"))
-        };
-        let (a, b) = match split {
-            Some(i) => (num(&range[..i])?, num(&range[i + 1..])?),
-            None => {
-                let f = num(range)?;
-                (f, f)
-            }
-        };
-        if b < a {
-            return Err(format!("range `{part}` ends before it starts"));
+        let (a, b, step) = frame_range(part)?;
+        // Counted in 128 bits: b - a overflows i64 for ranges across its limits.
+        let count = (b as i128 - a as i128) / step as i128 + 1;
+        if out.len() as i128 + count > MAX_FRAMES as i128 {
+            return Err(format!(
+                "`{text}` names more than {MAX_FRAMES} frames; render the sequence in parts"
+            ));
         }
-        if (b - a) / step >= 1_000_000 {
-            return Err(format!("range `{part}` has more than a million frames"));
-        }
-        out.extend((a..=b).step_by(step as usize));
+        // Every a + k·step up to b lies in a..=b, so the cast back is exact.
+        out.extend((0..count).map(|k| (a as i128 + k * step as i128) as i64));
     }
     Ok(out)
+}
+
+/// One comma-separated part of a frame list: (first, last, step).
+fn frame_range(part: &str) -> Result<(i64, i64, i64), String> {
+    let number = |s: &str, what: &str| {
+        let t = s.trim();
+        let digits = t.strip_prefix(['-', '+']).unwrap_or(t);
+        let parsed = match digits.bytes().all(|b| b.is_ascii_digit()) {
+            true => t.parse::<i64>().ok(),
+            false => None,
+        };
+        parsed.ok_or_else(|| {
+            format!(
+                "`{s}` in `{part}` is not a {what}: expected a whole number \
+                 from {} to {}",
+                i64::MIN,
+                i64::MAX
+            )
+        })
+    };
+    let (range, step) = match part.split_once(':') {
+        Some((r, s)) => (r, number(s, "step")?),
+        None => (part, 1),
+    };
+    if step <= 0 {
+        return Err(format!("the step in `{part}` must be at least 1"));
+    }
+    // the range dash is the first '-' after a leading digit (so negative frames parse)
+    let split = range
+        .char_indices()
+        .skip(1)
+        .find(|&(i, c)| c == '-' && range.as_bytes()[i - 1].is_ascii_digit())
+        .map(|(i, _)| i);
+    let (a, b) = match split {
+        Some(i) => (
+            number(&range[..i], "frame")?,
+            number(&range[i + 1..], "frame")?,
+        ),
+        None => {
+            let f = number(range, "frame")?;
+            (f, f)
+        }
+    };
+    if b < a {
+        return Err(format!("range `{part}` ends before it starts"));
+    }
+    Ok((a, b, step))
 }
 
 #[cfg(test)]

@@ -8,15 +8,15 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
 
 use brume::error::Result;
 use brume::film::image_io;
-use brume::scene::animation::{has_pattern, parse_frames, substitute};
+use brume::scene::animation::{has_pattern, substitute};
 
+use super::interrupt::{self, EXIT_INTERRUPTED};
 use super::{
-    apply_overrides, argument, check_render_args, install_interrupt_handler, render_and_write,
-    warn_extensions, Job, RenderArgs, EXIT_INTERRUPTED,
+    apply_overrides, argument, check_render_args, render_and_write, warn_extensions, Job,
+    RenderArgs,
 };
 
 /// The EXR and PNG patterns: the user's, or NAME.####.exr / NAME.####.png.
@@ -50,9 +50,8 @@ fn output_patterns(args: &RenderArgs, frames: usize) -> Result<(PathBuf, PathBuf
 
 /// Renders every frame of `--frames`; returns the exit code.
 pub fn run_frames(args: &RenderArgs) -> Result<i32> {
-    let list = args.frames.as_deref().unwrap_or_default();
-    let frames = parse_frames(list).map_err(|m| argument("--frames", &m))?;
-    let time_budget = check_render_args(args)?;
+    let frames = args.frames.as_ref().map_or(&[][..], |f| &f.0[..]);
+    check_render_args(args)?;
     if args.debug_pixel.is_some() {
         return Err(argument(
             "--debug-pixel",
@@ -60,18 +59,14 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
         ));
     }
     let (exr_pattern, png_pattern) = output_patterns(args, frames.len())?;
-    check_sequence_outputs(args, &frames, &exr_pattern, &png_pattern)?;
-    let cancel = install_interrupt_handler();
-    let mut job = Job {
+    check_sequence_outputs(args, frames, &exr_pattern, &png_pattern)?;
+    let job = Job {
         args,
-        time_budget,
-        tonemap: brume::film::tonemap::Tonemap::from_name(&args.tonemap)
-            .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?,
         show: !args.quiet && std::io::stderr().is_terminal(),
-        cancel: &cancel,
+        cancel: interrupt::flag(),
     };
     for (i, &frame) in frames.iter().enumerate() {
-        if cancel.load(Ordering::SeqCst) {
+        if interrupt::requested() {
             // stopped between frames: write nothing for the frames not begun
             eprintln!("interrupted before frame {frame}: earlier frames are complete");
             return Ok(EXIT_INTERRUPTED);
@@ -88,7 +83,7 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
         if !args.quiet {
             eprintln!("{position}");
         }
-        let code = render_frame(&mut job, frame, &exr, &png)?;
+        let code = render_frame(&job, frame, &exr, &png)?;
         if code != 0 {
             eprintln!(
                 "interrupted in {position}: earlier frames are complete; resume with --skip-existing"
@@ -100,14 +95,16 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
 }
 
 /// Builds, renders and writes one frame; its scene and volumes are dropped on return.
-fn render_frame(job: &mut Job, frame: i64, exr: &Path, png: &Path) -> Result<i32> {
+fn render_frame(job: &Job, frame: i64, exr: &Path, png: &Path) -> Result<i32> {
     let args = job.args;
+    // Loading has nothing to save: a stop request while it runs exits at once.
+    interrupt::saving(false);
     let loaded = brume::scene::load_frame_with_inputs(&args.scene, Some(frame))?;
     for w in &loaded.warnings {
         eprintln!("warning: frame {frame}: {w}");
     }
     let mut scene = loaded.scene;
-    job.tonemap = apply_overrides(&mut scene, args)?;
+    apply_overrides(&mut scene, args)?;
     render_and_write(job, (&scene, Some(frame)), exr, png)
 }
 

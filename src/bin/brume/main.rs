@@ -2,16 +2,20 @@
 
 use brume::error::{Error, Result};
 use brume::film::image_io;
+use brume::film::tonemap::Tonemap;
+use brume::integrator::aov::Aov;
+use brume::render::cli_values as values;
 use brume::render::output_safety::Plan;
 use brume::render::{render_part, RenderOptions};
 use clap::{Parser, Subcommand};
+use interrupt::EXIT_INTERRUPTED;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 mod frames_cli;
+mod interrupt;
 
 /// brume: a physically based renderer for participating media.
 #[derive(Parser)]
@@ -66,7 +70,7 @@ struct CompareArgs {
     #[arg(long)]
     diff: Option<PathBuf>,
     /// Exit with code 1 when the RMSE is above this (or an image holds NaN or infinity).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_name = "X", value_parser = values::rmse)]
     max_rmse: Option<f64>,
 }
 
@@ -76,13 +80,13 @@ struct AirlightArgs {
     #[arg(long, default_value = "airlight")]
     out: PathBuf,
     /// Meteorological visual range in metres (sigma_t = ln 50 / visibility).
-    #[arg(long, default_value_t = 1000.0)]
+    #[arg(long, allow_negative_numbers = true, value_name = "METRES", default_value = "1000", value_parser = visibility)]
     visibility: f32,
     /// Samples per pixel.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", default_value = "64", value_parser = values::whole(1u32, u32::MAX))]
     spp: u32,
     /// Image width in pixels (height = width / 5).
-    #[arg(long, default_value_t = 768)]
+    #[arg(long, allow_negative_numbers = true, value_name = "PIXELS", default_value = "768", value_parser = values::whole(64u32, 32768))]
     width: u32,
     /// Emission–absorption air and emissive targets, where Koschmieder's law is exact.
     #[arg(long, conflicts_with = "single")]
@@ -91,8 +95,14 @@ struct AirlightArgs {
     #[arg(long)]
     single: bool,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = values::threads)]
     threads: Option<usize>,
+}
+
+/// `airlight --visibility`: from a millimetre to a million kilometres, so that
+/// sigma_t = ln 50 / visibility stays a normal number in the demo's scene.
+fn visibility(text: &str) -> values::Parsed<f32> {
+    values::decimal(1e-3, 1e9, "metres")(text).map(|v| v as f32)
 }
 
 #[derive(clap::Args)]
@@ -109,16 +119,16 @@ struct RenderArgs {
     /// The scene file (TOML).
     scene: PathBuf,
     /// Samples per pixel (overrides the scene's integrator.spp).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = values::whole(1u32, u32::MAX))]
     spp: Option<u32>,
     /// Maximum path depth (overrides integrator.max_depth).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = values::whole(0u32, u32::MAX))]
     max_depth: Option<u32>,
     /// Seed of the random streams (overrides integrator.seed).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_name = "S", value_parser = values::whole(0u64, u64::MAX))]
     seed: Option<u64>,
     /// Worker threads (default: all cores). The image does not depend on it.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = values::threads)]
     threads: Option<usize>,
     /// EXR output (default: NAME.exr in the current folder).
     #[arg(long)]
@@ -127,39 +137,39 @@ struct RenderArgs {
     #[arg(long)]
     png: Option<PathBuf>,
     /// Render progressive passes until this many seconds are spent (--spp then caps it).
-    #[arg(long, allow_negative_numbers = true)]
-    time: Option<f64>,
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = values::seconds)]
+    time: Option<Duration>,
     /// Tone curve of the PNG preview: aces (filmic, rolls highlights off) or clip.
-    #[arg(long, default_value = "aces", value_name = "aces|clip")]
-    tonemap: String,
+    #[arg(long, value_enum, default_value_t = Tonemap::Aces)]
+    tonemap: Tonemap,
     /// Exposure of the PNG preview in stops.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, value_name = "STOPS", default_value = "0", allow_negative_numbers = true, value_parser = values::exposure)]
     exposure: f32,
     /// No progress bar and no summary.
     #[arg(long, short)]
     quiet: bool,
     /// AOVs written as extra EXR layers, comma-separated: alpha,depth,normal,albedo,transmittance
     /// (replaces the scene's [film] aovs; "none" for none).
-    #[arg(long, value_name = "LIST")]
-    aovs: Option<String>,
+    #[arg(long, value_name = "LIST", value_parser = values::aovs)]
+    aovs: Option<values::Aovs>,
     /// Denoise the beauty with Intel Open Image Denoise into a `denoised` layer
     /// (adds the albedo and normal AOVs; needs a build with `--features denoise`).
     /// A piece of a split render records the albedo and normal only: denoise with `brume merge --denoise`.
     #[arg(long)]
     denoise: bool,
     /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
-    #[arg(long, value_name = "HOST:PORT")]
+    #[arg(long, value_name = "HOST:PORT", value_parser = values::host_port)]
     display: Option<String>,
     /// Rewrite the EXR and PNG (marked incomplete) every SECONDS during the render.
-    #[arg(long, value_name = "SECONDS")]
-    checkpoint: Option<f64>,
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = values::seconds)]
+    checkpoint: Option<Duration>,
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
-    #[arg(long, value_name = "X,Y")]
-    debug_pixel: Option<String>,
+    #[arg(long, value_name = "X,Y", value_parser = values::pixel)]
+    debug_pixel: Option<(u32, u32)>,
     /// Render a frame sequence: `1-100`, `1,3,7-20:2`; outputs take the #### pattern of --out/--png
     /// (default NAME.####.exr and NAME.####.png).
-    #[arg(long, value_name = "LIST", allow_hyphen_values = true)]
-    frames: Option<String>,
+    #[arg(long, value_name = "LIST", allow_hyphen_values = true, value_parser = values::frames)]
+    frames: Option<values::Frames>,
     /// With --frames, skip frames whose EXR exists and is marked complete.
     #[arg(long, requires = "frames")]
     skip_existing: bool,
@@ -169,7 +179,8 @@ struct RenderArgs {
 
 fn main() {
     restore_default_sigpipe();
-    let cli = Cli::parse();
+    interrupt::install();
+    let cli = parse_command_line();
     let result = match cli.memory_limit {
         Some(bytes) => {
             brume::limits::set_memory_limit(bytes);
@@ -193,6 +204,31 @@ fn main() {
     }
 }
 
+/// The command line, or exit: help and version as clap prints them; a bad
+/// flag value as one line naming the flag and what it expects, exit code 2.
+fn parse_command_line() -> Cli {
+    use clap::error::ErrorKind;
+    let e = match Cli::try_parse() {
+        Ok(cli) => return cli,
+        Err(e) => e,
+    };
+    match e.kind() {
+        ErrorKind::ValueValidation | ErrorKind::InvalidValue => {
+            // clap's first paragraph says it (with the possible values of a
+            // choice on a line of their own); the rest points to --help.
+            let text = e.render().to_string();
+            let first: Vec<&str> = text
+                .lines()
+                .take_while(|l| !l.is_empty())
+                .map(str::trim)
+                .collect();
+            eprintln!("{}", first.join(" "));
+            std::process::exit(2);
+        }
+        _ => e.exit(),
+    }
+}
+
 /// Lets a closed pipe end the process silently, as it ends `cat` or `grep`.
 ///
 /// Rust ignores SIGPIPE, so `println!` into a reader that has gone away (`brume
@@ -208,15 +244,8 @@ fn restore_default_sigpipe() {
     }
 }
 
-/// Exit code of a render stopped by Ctrl-C or SIGTERM after saving its finished
-/// passes (128 + SIGINT, as shells report an interrupted command).
-const EXIT_INTERRUPTED: i32 = 130;
-
-/// Largest accepted `--time`: a billion seconds, far below what `Instant` can add.
-const MAX_TIME_SECONDS: u64 = 1_000_000_000;
-
-/// Largest accepted `--threads`.
-const MAX_THREADS: usize = 1024;
+/// How long a finished render waits for tev to take its final image.
+const DISPLAY_FINAL_WAIT: Duration = Duration::from_secs(10);
 
 fn run_info(args: InfoArgs) -> Result<i32> {
     let report = brume::volume::info_report(&args.file, args.json)?;
@@ -237,12 +266,6 @@ fn run_info(args: InfoArgs) -> Result<i32> {
 
 fn run_airlight(args: AirlightArgs) -> Result<i32> {
     use brume::airlight::{AirlightMode, AirlightOptions};
-    if args.threads == Some(0) || args.threads.is_some_and(|t| t > MAX_THREADS) {
-        return Err(argument(
-            "--threads",
-            &format!("must be between 1 and {MAX_THREADS}"),
-        ));
-    }
     let report = brume::airlight::run(&AirlightOptions {
         out: Some(args.out),
         visibility: args.visibility,
@@ -268,11 +291,6 @@ fn run_airlight(args: AirlightArgs) -> Result<i32> {
 }
 
 fn run_compare(args: CompareArgs) -> Result<i32> {
-    if let Some(m) = args.max_rmse {
-        if !(m.is_finite() && m >= 0.0) {
-            return Err(argument("--max-rmse", "must be a number at or above 0"));
-        }
-    }
     if let Some(diff) = &args.diff {
         Plan::new("comparison")
             .input("image A", &args.a)
@@ -316,7 +334,7 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if args.frames.is_some() {
         return frames_cli::run_frames(&args);
     }
-    let time_budget = check_render_args(&args)?;
+    check_render_args(&args)?;
     let stem = args
         .scene
         .file_stem()
@@ -344,30 +362,21 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         eprintln!("warning: {w}");
     }
     let mut scene = loaded.scene;
-    let tonemap = apply_overrides(&mut scene, &args)?;
-    if let Some(pixel) = &args.debug_pixel {
+    apply_overrides(&mut scene, &args)?;
+    if let Some(pixel) = args.debug_pixel {
         return debug_pixel(&scene, pixel);
     }
-    let cancel = install_interrupt_handler();
     let job = Job {
         args: &args,
-        time_budget,
-        tonemap,
         show: !args.quiet && std::io::stderr().is_terminal(),
-        cancel: &cancel,
+        cancel: interrupt::flag(),
     };
     render_and_write(&job, (&scene, None), &exr_path, &png_path)
 }
 
-/// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene; returns the tonemap.
-fn apply_overrides(
-    scene: &mut brume::integrator::Scene,
-    args: &RenderArgs,
-) -> Result<brume::film::tonemap::Tonemap> {
+/// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene.
+fn apply_overrides(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Result<()> {
     if let Some(spp) = args.spp {
-        if spp == 0 {
-            return Err(argument("--spp", "must be at least 1"));
-        }
         scene.settings.spp = spp;
     }
     if let Some(d) = args.max_depth {
@@ -376,85 +385,38 @@ fn apply_overrides(
     if let Some(seed) = args.seed {
         scene.settings.seed = seed;
     }
-    if let Some(list) = &args.aovs {
-        scene.aovs = parse_aovs(list)?;
+    if let Some(aovs) = &args.aovs {
+        scene.aovs = aovs.0.clone();
     }
     if args.denoise {
         if !brume::film::denoise::AVAILABLE {
             return Err(argument("--denoise", brume::film::denoise::UNAVAILABLE));
         }
-        use brume::integrator::aov::Aov;
         for aov in [Aov::Albedo, Aov::Normal] {
             if !scene.aovs.contains(&aov) {
                 scene.aovs.push(aov);
             }
         }
     }
-    brume::film::tonemap::Tonemap::from_name(&args.tonemap)
-        .ok_or_else(|| argument("--tonemap", "must be aces or clip"))
+    Ok(())
 }
 
-/// Checks the arguments that do not depend on the scene; returns the time budget.
-fn check_render_args(args: &RenderArgs) -> Result<Option<Duration>> {
-    if args.threads == Some(0) {
-        return Err(argument("--threads", "must be at least 1"));
-    }
-    // Spawning a huge pool takes minutes and ignores Ctrl-C; no machine needs it.
-    if args.threads.is_some_and(|t| t > MAX_THREADS) {
-        return Err(argument(
-            "--threads",
-            &format!("must be at most {MAX_THREADS}"),
-        ));
-    }
-    let time_budget = match args.time {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            return Err(argument("--time", "must be a positive number of seconds"))
-        }
-        Some(t) => match Duration::try_from_secs_f64(t) {
-            Ok(d) if d.as_secs() <= MAX_TIME_SECONDS => Some(d),
-            _ => {
-                return Err(argument(
-                    "--time",
-                    &format!(
-                        "must be at most {MAX_TIME_SECONDS} seconds (about 31 years), got {t}"
-                    ),
-                ))
-            }
-        },
-        None => None,
-    };
-    if !args.exposure.is_finite() {
-        return Err(argument("--exposure", "must be finite"));
-    }
-    if args.split.is_piece() && time_budget.is_some() {
+/// Checks the combinations of flags that do not depend on the scene (each value is checked by its parser).
+fn check_render_args(args: &RenderArgs) -> Result<()> {
+    if args.split.is_piece() && args.time.is_some() {
         return Err(argument(
             "--time",
             "a piece (--crop, --samples, --task-count) renders a fixed sample range; leave out --time",
         ));
     }
-    Ok(time_budget)
-}
-
-/// The first Ctrl-C asks the render to stop and save; a second exits at once.
-fn install_interrupt_handler() -> Arc<AtomicBool> {
-    let cancel = Arc::new(AtomicBool::new(false));
-    let flag = cancel.clone();
-    let _ = ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            image_io::discard_temporaries();
-            std::process::exit(EXIT_INTERRUPTED);
-        }
-    });
-    cancel
+    Ok(())
 }
 
 /// What a render takes beside the scene: the same for every frame of a sequence.
 struct Job<'a> {
     args: &'a RenderArgs,
-    time_budget: Option<Duration>,
-    tonemap: brume::film::tonemap::Tonemap,
     show: bool,
-    cancel: &'a Arc<AtomicBool>,
+    cancel: &'a AtomicBool,
 }
 
 /// Renders one image of `scene` (a still, or the given frame) and writes its
@@ -474,28 +436,21 @@ fn render_and_write(
     check_memory(scene, &args.scene)?;
     let options = RenderOptions {
         spp: scene.settings.spp,
-        time_budget: job.time_budget,
+        time_budget: args.time,
         spp_is_cap: args.spp.is_some(),
         threads: args.threads,
         progress: job.show,
     };
-    let mut checkpoint = match args.checkpoint {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            return Err(argument(
-                "--checkpoint",
-                "must be a positive number of seconds",
-            ))
-        }
-        Some(t) => Some(brume::render::checkpoint::Checkpoint::new(
-            Duration::from_secs_f64(t),
+    let mut checkpoint = args.checkpoint.map(|every| {
+        brume::render::checkpoint::Checkpoint::new(
+            every,
             exr_path.to_path_buf(),
             png_path.to_path_buf(),
             args.exposure,
-            job.tonemap,
-        )),
-        None => None,
-    };
-    let display = match &args.display {
+            args.tonemap,
+        )
+    });
+    let mut display = match &args.display {
         Some(address) => {
             let name = args
                 .scene
@@ -506,12 +461,14 @@ fn render_and_write(
         }
         None => None,
     };
+    // From here a stop request saves the finished passes instead of exiting at once.
+    interrupt::saving(true);
     let mut out = render_live(
         scene,
         &options,
         &part,
         job.cancel,
-        display,
+        &mut display,
         checkpoint.as_mut(),
     );
     if out.image.spp == 0 {
@@ -525,7 +482,11 @@ fn render_and_write(
         return Ok(EXIT_INTERRUPTED);
     }
     out.film.provenance.scene_hash = scene_hash;
-    save(job, &out, (exr_path, png_path), checkpoint.as_mut())
+    let code = save(job, &out, (exr_path, png_path), checkpoint.as_mut())?;
+    if let Some(warning) = display.and_then(|d| d.finish(job.cancel, DISPLAY_FINAL_WAIT)) {
+        eprintln!("warning: --display: {warning}");
+    }
+    Ok(code)
 }
 
 /// Writes a finished or stopped render: a stopped one as a partial image,
@@ -551,6 +512,15 @@ fn save(
         if let Some(c) = checkpoint {
             c.remove_stale();
         }
+        if interrupt::requested() {
+            // The stop came after the last pass: the image is complete, but the caller asked to stop.
+            eprintln!(
+                "interrupted after the render finished: the complete image is in {} and {}",
+                exr_path.display(),
+                png_path.display()
+            );
+            return Ok(EXIT_INTERRUPTED);
+        }
         return Ok(0);
     }
     // Said even with --quiet: the caller must know the image is not the full render.
@@ -572,7 +542,10 @@ fn save(
     Ok(EXIT_INTERRUPTED)
 }
 
-/// Writes the render's EXR (with its AOV layers) and PNG preview.
+/// Writes the EXR (with the AOV and denoised layers), then the PNG preview,
+/// encoding the PNG while the EXR is written: after a stop request the writes
+/// are all that stands between the request and the exit. The PNG is put in
+/// place only once the EXR is, so a failed EXR leaves both files as they were.
 fn write_images(
     job: &Job,
     out: &brume::render::RenderOutput,
@@ -580,14 +553,25 @@ fn write_images(
     png_path: &Path,
 ) -> Result<()> {
     let args = job.args;
-    let denoised = match args.denoise && !args.split.is_piece() {
-        true => brume::film::denoise::denoise_film(&out.film).map_err(|message| Error::Output {
-            path: exr_path.to_path_buf(),
-            message,
-        })?,
-        false => Vec::new(),
+    let write_exr = || {
+        let denoised = match args.denoise && !args.split.is_piece() {
+            true => {
+                brume::film::denoise::denoise_film(&out.film).map_err(|message| Error::Output {
+                    path: exr_path.to_path_buf(),
+                    message,
+                })?
+            }
+            false => Vec::new(),
+        };
+        image_io::write_film_exr_with(exr_path, &out.film, &denoised)
     };
-    image_io::write_film_exr_with(exr_path, &out.film, &denoised)?;
+    let (exr, png) = std::thread::scope(|s| {
+        let exr = s.spawn(write_exr);
+        let png = image_io::encode_png_tonemapped(&out.image, args.exposure, args.tonemap);
+        (exr.join(), png)
+    });
+    // A panic in the EXR writer is a bug: let it end the process as it would have.
+    exr.unwrap_or_else(|p| std::panic::resume_unwind(p))?;
     if args.denoise && args.split.is_piece() && !args.quiet {
         eprintln!(
             "note: {} holds the albedo and normal for denoising after the merge: \
@@ -595,7 +579,11 @@ fn write_images(
             exr_path.display()
         );
     }
-    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)
+    let png = png.map_err(|message| Error::Output {
+        path: png_path.to_path_buf(),
+        message,
+    })?;
+    image_io::write_encoded_png(png_path, &png)
 }
 
 fn run_merge(args: MergeArgs) -> Result<i32> {
@@ -628,31 +616,6 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
     Ok(if merged.written.is_some() { 0 } else { 1 })
 }
 
-/// `--aovs a,b,c`: known names, each once; `none` for none.
-fn parse_aovs(list: &str) -> Result<Vec<brume::integrator::aov::Aov>> {
-    use brume::integrator::aov::Aov;
-    let mut aovs = Vec::new();
-    if list.trim() == "none" {
-        return Ok(aovs);
-    }
-    for name in list.split(',').map(str::trim) {
-        let aov = Aov::from_name(name).ok_or_else(|| {
-            let known: Vec<_> = Aov::ALL.iter().map(|a| a.name()).collect();
-            argument(
-                "--aovs",
-                &format!(
-                    "unknown AOV `{name}`, expected none or a list of {}",
-                    known.join(", ")
-                ),
-            )
-        })?;
-        if !aovs.contains(&aov) {
-            aovs.push(aov);
-        }
-    }
-    Ok(aovs)
-}
-
 /// Renders, sending each finished pass to tev and to the checkpoint writer.
 /// A viewer that goes away or a failed checkpoint is reported once; the render goes on.
 fn render_live(
@@ -660,18 +623,17 @@ fn render_live(
     options: &RenderOptions,
     part: &brume::render::Part,
     cancel: &AtomicBool,
-    mut display: Option<brume::render::display::Display>,
+    display: &mut Option<brume::render::display::Display>,
     mut checkpoint: Option<&mut brume::render::checkpoint::Checkpoint>,
 ) -> brume::render::RenderOutput {
     if display.is_none() && checkpoint.is_none() {
         return render_part(scene, options, part, cancel, None);
     }
     let mut on_pass = |image: &image_io::Image| {
-        if let Some(d) = &mut display {
-            if let Err(e) = d.show(image) {
-                eprintln!("warning: --display: lost the connection to tev ({e}); rendering on");
-                display = None;
-            }
+        let lost = display.as_mut().and_then(|d| d.show(image).err());
+        if let Some(e) = lost {
+            eprintln!("warning: --display: lost the connection to tev ({e}); rendering on");
+            *display = None;
         }
         if let Some(c) = &mut checkpoint {
             if let Err(e) = c.pass_done(image) {
@@ -684,20 +646,13 @@ fn render_live(
 }
 
 /// `--debug-pixel X,Y`: the samples of one pixel, exactly as a full render takes them.
-fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
-    let bad = || {
-        argument(
+fn debug_pixel(scene: &brume::integrator::Scene, (x, y): (u32, u32)) -> Result<i32> {
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    if x >= w || y >= h {
+        return Err(argument(
             "--debug-pixel",
-            "expected X,Y inside the image, e.g. 120,64",
-        )
-    };
-    let (x, y) = text.split_once(',').ok_or_else(bad)?;
-    let (x, y): (u32, u32) = (
-        x.trim().parse().map_err(|_| bad())?,
-        y.trim().parse().map_err(|_| bad())?,
-    );
-    if x >= scene.camera.width() || y >= scene.camera.height() {
-        return Err(bad());
+            &format!("{x},{y} is outside the {w}x{h} image: X must be below {w} and Y below {h}"),
+        ));
     }
     let spp = scene.settings.spp;
     let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);

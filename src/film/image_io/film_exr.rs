@@ -19,9 +19,10 @@ use crate::film::{format_ranges, parse_ranges, Film, Provenance, Rect};
 use crate::integrator::aov::Aov;
 use exr::meta::attribute::{AttributeValue, IntegerBounds, Text};
 use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, ImageAttributes,
-    Layer as ExrLayer, LayerAttributes, SmallVec, Vec2, WritableImage,
+    AnyChannel, AnyChannels, FlatSamples, Image as ExrImage, ImageAttributes, Layer as ExrLayer,
+    LayerAttributes, SmallVec, Vec2, WritableImage,
 };
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -67,7 +68,7 @@ pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChanne
     let mut layers = vec![ExrLayer::new(
         (w.width() as usize, w.height() as usize),
         attributes,
-        Encoding::SMALL_LOSSLESS,
+        super::exr_encoding(!film.provenance.complete()),
         AnyChannels::sort(channels),
     )];
     layers.extend(splat_part(film));
@@ -81,7 +82,8 @@ pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChanne
 /// The f32 means of every layer: the beauty (with its splats) and the AOVs.
 fn image_channels(film: &Film) -> Channels {
     let n = film.window.area();
-    let pixels: Vec<_> = (0..n).map(|i| film.pixel(i)).collect();
+    // In parallel: after a stop request this stands between the request and the exit.
+    let pixels: Vec<_> = (0..n).into_par_iter().map(|i| film.pixel(i)).collect();
     let mut out = Channels::new();
     for c in 0..3 {
         let values = pixels.iter().map(|p| p[c]).collect();
@@ -120,7 +122,7 @@ fn splat_part(film: &Film) -> Option<ExrLayer<AnyChannels<FlatSamples>>> {
     Some(ExrLayer::new(
         (film.display.0 as usize, film.display.1 as usize),
         attributes,
-        Encoding::SMALL_LOSSLESS,
+        super::exr_encoding(!film.provenance.complete()),
         AnyChannels::sort(channels),
     ))
 }
