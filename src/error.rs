@@ -73,7 +73,7 @@ pub fn input_file_problem(path: &std::path::Path, max_bytes: u64) -> Option<Stri
         return Some("is a directory, not a file".into());
     }
     if !meta.is_file() {
-        return Some("is not a regular file (a FIFO, socket or device)".into());
+        return Some(format!("is {}, not a regular file", special_kind(&meta)));
     }
     if meta.len() > max_bytes {
         return Some(format!(
@@ -83,6 +83,29 @@ pub fn input_file_problem(path: &std::path::Path, max_bytes: u64) -> Option<Stri
         ));
     }
     None
+}
+
+/// What a path that is neither a file nor a folder is, in words.
+fn special_kind(meta: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = meta.file_type();
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+    }
+    let _ = meta;
+    "a FIFO, socket or device"
 }
 
 /// Result with brume's error.

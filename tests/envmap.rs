@@ -237,7 +237,7 @@ fn bad_maps_name_the_key() {
     let corrupt = corrupt.display().to_string().replace('\\', "/");
     let file = Path::new("map.toml");
     for (light, needle) in [
-        ("file = \"missing.exr\"".to_string(), "not found"),
+        ("file = \"missing.exr\"".to_string(), "no such file"),
         (format!("file = \"{black}\""), "black everywhere"),
         (format!("file = \"{negative}\""), "negative"),
         (format!("file = \"{corrupt}\""), "cannot read"),

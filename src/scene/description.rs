@@ -198,12 +198,19 @@ pub struct SceneDesc {
     /// `[[medium]]` entries (also accepted as `[[media]]`).
     #[serde(default, rename = "medium", alias = "media")]
     pub media: Vec<MediumDesc>,
+    /// How the file spells the media key, `medium` or `media`, for messages.
+    #[serde(skip, default = "default_media_key")]
+    pub media_key: &'static str,
     /// `[animation]`: frame rate, frame offset, missing frames.
     #[serde(default)]
     pub animation: super::animation::AnimationDesc,
     /// `[film]`.
     #[serde(default)]
     pub film: FilmDesc,
+}
+
+fn default_media_key() -> &'static str {
+    "medium"
 }
 
 /// `[film]`: what the EXR holds beside the beauty.

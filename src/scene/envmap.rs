@@ -1,6 +1,8 @@
 //! `type = "environment_map"` lights: reading the EXR and checking its texels.
 
 use super::description::Color;
+use super::files::{check_input, Format};
+use super::textures::MAX_TEXTURE_BYTES;
 use super::validate::Check;
 use crate::envmap::EnvMap;
 use crate::error::Result;
@@ -16,16 +18,23 @@ pub(super) fn build(
     rotate: Option<[f32; 3]>,
 ) -> Result<EnvMap> {
     let file_field = format!("{field}.file");
-    if !path.is_file() {
-        return Err(check.error(
-            &file_field,
-            format!("environment map {} not found", path.display()),
-        ));
-    }
+    let what = "environment map";
+    check_input(
+        check,
+        &file_field,
+        what,
+        path,
+        Format::Exr,
+        MAX_TEXTURE_BYTES,
+    )?;
     let (width, height, texels) = crate::image_io::read_exr(path).map_err(|e| {
+        let message = match e {
+            crate::error::Error::Input { message, .. } => message,
+            other => other.to_string(),
+        };
         check.error(
             &file_field,
-            format!("cannot read environment map {}: {e}", path.display()),
+            format!("cannot read {what} {}: {message}", path.display()),
         )
     })?;
     super::textures::check_finite_texels(check, &file_field, path, width, &texels)?;

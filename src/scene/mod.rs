@@ -4,6 +4,7 @@
 pub mod animation;
 pub mod description;
 mod envmap;
+mod files;
 mod fog;
 mod interior;
 mod keyframes;
@@ -130,24 +131,30 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
     for (key, value) in table.iter_mut() {
         retag(value, key, key).map_err(|(field, message)| scene_error(field, message))?;
     }
-    serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
-        let mut field = field_path(e.path());
-        let message = messages::user_words(e.into_inner().message());
-        // a `type` was rewritten into a variant key by `retag`: name the key the user wrote
-        let last_key = field.rsplit('.').next().unwrap_or("");
-        let last_key = last_key.split('[').next().unwrap_or("");
-        if message.starts_with("unknown value") && TAGGED_KEYS.contains(&last_key) {
-            field.push_str(".type");
-        }
-        scene_error(
-            if field.is_empty() {
-                "scene".into()
-            } else {
-                field
-            },
-            message,
-        )
-    })
+    let media_key = match table.contains_key("media") {
+        true => "media",
+        false => "medium",
+    };
+    let desc: SceneDesc =
+        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            let mut field = field_path(e.path());
+            let message = messages::user_words(e.into_inner().message());
+            // a `type` was rewritten into a variant key by `retag`: name the key the user wrote
+            let last_key = field.rsplit('.').next().unwrap_or("");
+            let last_key = last_key.split('[').next().unwrap_or("");
+            if message.starts_with("unknown value") && TAGGED_KEYS.contains(&last_key) {
+                field.push_str(".type");
+            }
+            scene_error(
+                if field.is_empty() {
+                    "scene".into()
+                } else {
+                    field
+                },
+                message,
+            )
+        })?;
+    Ok(SceneDesc { media_key, ..desc })
 }
 
 /// What a TOML value is, in TOML's words (`a string "diffuse"`, `an array`).
@@ -511,7 +518,10 @@ pub fn build_frame(
         .media
         .iter()
         .enumerate()
-        .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base, &timing))
+        .map(|(i, m)| {
+            let field = format!("{}[{i}]", desc.media_key);
+            media::build_medium(m, &field, &check, base, &timing)
+        })
         .collect::<Result<Vec<_>>>()?;
     media.extend(interiors);
 

@@ -2,6 +2,7 @@
 //! and `{ type = "checkerboard", a, b }`, read and checked once at scene load.
 
 use super::description::{Color, ColorOrTexture, TextureDesc, UvScale};
+use super::files::{check_input, Format};
 use super::resolve;
 use super::validate::Check;
 use crate::color::{srgb_to_linear, Rgb};
@@ -21,7 +22,7 @@ pub(super) enum Range {
 }
 
 /// Largest texture file read.
-const MAX_TEXTURE_BYTES: u64 = 1 << 30;
+pub(super) const MAX_TEXTURE_BYTES: u64 = 1 << 30;
 
 /// Images already read in this scene, so that a file used twice is decoded once.
 #[derive(Default)]
@@ -157,6 +158,13 @@ fn image(
             ))
         }
     };
+    // what the path is comes first: `/dev/zero` is a device whatever its name
+    if let Some(problem) = crate::error::input_file_problem(&path, MAX_TEXTURE_BYTES) {
+        return Err(check.error(
+            &file_field,
+            format!("cannot read texture {}: {problem}", path.display()),
+        ));
+    }
     let exr = match path.extension().and_then(|e| e.to_str()) {
         Some(e) if e.eq_ignore_ascii_case("exr") => true,
         Some(e) if e.eq_ignore_ascii_case("png") => false,
@@ -194,9 +202,15 @@ fn image(
             format!("cannot read texture {}: {message}", path.display()),
         )
     };
-    if let Some(problem) = crate::error::input_file_problem(&path, MAX_TEXTURE_BYTES) {
-        return Err(read_error(problem));
-    }
+    let format = if exr { Format::Exr } else { Format::Png };
+    check_input(
+        check,
+        &file_field,
+        "texture",
+        &path,
+        format,
+        MAX_TEXTURE_BYTES,
+    )?;
     let (width, height, texels) = if exr {
         read_exr_texels(&path).map_err(read_error)?
     } else {

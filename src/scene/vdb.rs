@@ -28,6 +28,7 @@ use std::sync::Arc;
 
 use super::animation::{self, Timing};
 use super::description::{Color, PhaseDesc, TransformDesc};
+use super::files::{check_input, Format};
 use super::media::build_phase;
 use super::validate::Check;
 use crate::color::Rgb;
@@ -195,12 +196,14 @@ pub(crate) fn build_vdb_medium(
 ) -> Result<Medium> {
     let f = |name: &str| format!("{field}.{name}");
     let path = frame_file(&super::resolve(base, &desc.file), &f("file"), check, timing)?;
-    if let Some(problem) = crate::error::input_file_problem(&path, MAX_VDB_BYTES) {
-        return Err(check.error(
-            &f("file"),
-            format!("cannot read VDB file {}: {problem}", path.display()),
-        ));
-    }
+    check_input(
+        check,
+        &f("file"),
+        "VDB file",
+        &path,
+        Format::Vdb,
+        MAX_VDB_BYTES,
+    )?;
     let density_scale = check.finite(&f("density_scale"), desc.density_scale)?;
     if density_scale < 0.0 {
         return Err(check.error(&f("density_scale"), "must not be negative"));
