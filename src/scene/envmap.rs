@@ -4,6 +4,7 @@ use super::description::Color;
 use super::files::{check_input, Format};
 use super::textures::MAX_TEXTURE_BYTES;
 use super::validate::Check;
+use crate::color::Rgb;
 use crate::envmap::EnvMap;
 use crate::error::Result;
 use crate::math::Quat;
@@ -48,10 +49,36 @@ pub(super) fn build(
         }
         None => Quat::IDENTITY,
     };
+    let scale_field = match scale == Rgb::WHITE {
+        true => file_field.clone(),
+        false => format!("{field}.scale"),
+    };
+    check_scaled(check, &scale_field, &texels, scale)?;
     EnvMap::new(width, height, texels, scale, rotation).ok_or_else(|| {
         check.error(
             &file_field,
             format!("environment map {} is black everywhere", path.display()),
         )
+    })
+}
+
+/// Refuses a map whose brightest texel times `scale` overflows f32: its
+/// sampling distribution would have an infinite total (it used to be
+/// reported as "black everywhere").
+fn check_scaled(check: &Check, field: &str, texels: &[Rgb], scale: Rgb) -> Result<()> {
+    let brightest = super::overflow::brightest(texels.iter().copied());
+    super::overflow::product(
+        check,
+        field,
+        (brightest, "the brightest texel"),
+        (scale, "scale"),
+    )?;
+    // the sampling weight is the luminance, a weighted sum of the channels
+    let luminance = texels
+        .iter()
+        .map(|&t| (t * scale).luminance())
+        .fold(0.0, f32::max);
+    super::overflow::fits(check, field, luminance, luminance as f64, || {
+        "the brightest texel's luminance times scale".into()
     })
 }

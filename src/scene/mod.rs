@@ -11,10 +11,12 @@ mod keyframes;
 mod materials;
 mod media;
 mod messages;
+mod overflow;
 mod shapes;
 mod textures;
 mod validate;
 pub mod vdb;
+mod vdb_emission;
 
 use crate::camera::{Camera, FovAxis};
 use crate::color::Rgb;
@@ -520,7 +522,10 @@ pub fn build_frame(
         .enumerate()
         .map(|(i, m)| {
             let field = format!("{}[{i}]", desc.media_key);
-            media::build_medium(m, &field, &check, base, &timing)
+            let medium = media::build_medium(m, &field, &check, base, &timing)?;
+            let eye = crate::math::Vec3::from_array(desc.camera.position);
+            fog::check_at_camera(&medium, &field, eye, &check)?;
+            Ok(medium)
         })
         .collect::<Result<Vec<_>>>()?;
     media.extend(interiors);

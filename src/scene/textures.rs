@@ -72,6 +72,18 @@ pub(super) fn build(
         None => Rgb::WHITE,
     };
     let image = image(check, field, desc, base, cache)?;
+    let texels = (0..image.height()).flat_map(|j| (0..image.width()).map(move |i| (i, j)));
+    let brightest = super::overflow::brightest(texels.map(|(i, j)| image.texel(i, j)));
+    let scale_field = match desc.scale {
+        Some(_) => f("scale"),
+        None => f("file"),
+    };
+    super::overflow::product(
+        check,
+        &scale_field,
+        (brightest, "the brightest texel"),
+        (scale, "scale"),
+    )?;
     if range == Range::Albedo {
         check_albedo_texels(check, &f("file"), &image, scale, desc)?;
     }

@@ -15,7 +15,7 @@ pub const PROBE: &str = "zz_probe";
 
 /// One step from a table into a child table: `key = { type = tag, ... }`,
 /// or `key = [{ type = tag, ... }]` when `list`.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Step {
     pub key: String,
     pub list: bool,
@@ -213,6 +213,8 @@ pub struct Crawl {
     pub leaves: BTreeSet<String>,
     /// How many tables were swept.
     pub tables: usize,
+    /// Every leaf key with the steps to its table (tags included).
+    pub leaf_steps: Vec<(Vec<Step>, String)>,
 }
 
 impl Crawl {
@@ -273,6 +275,7 @@ impl Crawl {
         }
         assert!(refused > 0, "{field} accepted every wrong value");
         self.leaves.insert(field);
+        self.leaf_steps.push((steps.to_vec(), key.to_string()));
     }
 }
 
