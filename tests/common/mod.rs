@@ -1,6 +1,6 @@
 //! Helpers shared by the integration tests: scenes from TOML text,
 //! per-pixel Monte Carlo estimates, the one statistical assertion (`stats`)
-//! and where the test files are (`data`).
+//! where the test files are (`data`) and the one way to skip a test (`skip`).
 #![allow(dead_code, clippy::needless_range_loop)]
 
 use brume::color::Rgb;
@@ -11,6 +11,7 @@ use std::path::Path;
 
 pub mod data;
 pub mod k_sigma;
+pub mod skip;
 pub mod stats;
 
 #[allow(unused_imports)]
