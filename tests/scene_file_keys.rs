@@ -96,9 +96,9 @@ fn bad_paths(dir: &Path, ext: &str) -> Vec<(String, &'static str)> {
         (show("link"), "is a directory"),
         (
             "/dev/null".into(),
-            "is a character device, not a regular file",
+            "is not a regular file (a character device)",
         ),
-        (show("fifo"), "is a FIFO (named pipe), not a regular file"),
+        (show("fifo"), "is not a regular file (a FIFO (named pipe))"),
         (show("empty"), "is empty (0 bytes)"),
         (show("text"), text),
         (show("other"), other_name),
@@ -109,14 +109,14 @@ fn bad_paths(dir: &Path, ext: &str) -> Vec<(String, &'static str)> {
 /// A small grey environment map in `dir`.
 fn good_map(dir: &Path) -> String {
     let path = dir.join("good.exr");
-    let image = brume::image_io::Image {
+    let image = brume::film::image_io::Image {
         width: 4,
         height: 2,
-        pixels: vec![brume::color::Rgb::splat(0.5); 8],
+        pixels: vec![brume::math::color::Rgb::splat(0.5); 8],
         spp: 1,
         partial: false,
     };
-    brume::image_io::write_exr(&path, &image).unwrap();
+    brume::film::image_io::write_exr(&path, &image).unwrap();
     path.display().to_string()
 }
 

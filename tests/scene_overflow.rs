@@ -44,14 +44,14 @@ fn templates(dir: &Path) -> Vec<Template> {
         steps: vec![step("medium", true, Some(tag))],
     };
     let map = dir.join("map.exr");
-    let image = brume::image_io::Image {
+    let image = brume::film::image_io::Image {
         width: 4,
         height: 2,
-        pixels: vec![brume::color::Rgb::new(0.5, 1.0, 2.0); 8],
+        pixels: vec![brume::math::color::Rgb::new(0.5, 1.0, 2.0); 8],
         spp: 1,
         partial: false,
     };
-    brume::image_io::write_exr(&map, &image).unwrap();
+    brume::film::image_io::write_exr(&map, &image).unwrap();
     let texture = root.join("textures/checker4x2.png").display().to_string();
     let named = |name, t: Template| Template { name, ..t };
     vec![

@@ -6,11 +6,13 @@
 //! A `Shading` carries the shading normal flipped to the side of `wo` and
 //! which side of the surface that is (dielectrics need it for η).
 
+pub mod texture;
+
 pub mod fresnel;
 pub mod microfacet;
 mod rough;
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
 use microfacet::Ggx;

@@ -4,9 +4,9 @@ use super::description::Color;
 use super::files::{check_input, Format};
 use super::textures::MAX_TEXTURE_BYTES;
 use super::validate::Check;
-use crate::color::Rgb;
-use crate::envmap::EnvMap;
 use crate::error::Result;
+use crate::light::envmap::EnvMap;
+use crate::math::color::Rgb;
 use crate::math::Quat;
 use std::path::Path;
 
@@ -28,7 +28,7 @@ pub(super) fn build(
         Format::Exr,
         MAX_TEXTURE_BYTES,
     )?;
-    let (width, height, texels) = crate::image_io::read_exr(path).map_err(|e| {
+    let (width, height, texels) = crate::film::image_io::read_exr(path).map_err(|e| {
         let message = match e {
             crate::error::Error::Input { message, .. } => message,
             other => other.to_string(),

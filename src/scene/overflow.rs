@@ -6,8 +6,8 @@
 //! drops. Each is refused at load, naming the key and the product.
 
 use super::validate::Check;
-use crate::color::Rgb;
 use crate::error::Result;
+use crate::math::color::Rgb;
 
 /// Refuses `value`, computed in f32 from the file's values, when it is not
 /// finite; `what` says how it was formed (`sigma_a + sigma_s`) and `exact`

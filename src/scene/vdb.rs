@@ -33,8 +33,8 @@ use super::media::build_phase;
 use super::overflow;
 use super::validate::Check;
 use super::vdb_emission::build_emission;
-use crate::color::Rgb;
 use crate::error::Result;
+use crate::math::color::Rgb;
 use crate::medium::{GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium};
 use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid, VolumeError, MAX_VDB_BYTES};
 

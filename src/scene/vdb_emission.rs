@@ -5,8 +5,8 @@
 use super::overflow;
 use super::validate::Check;
 use super::vdb::{check_values, load, VdbDesc};
-use crate::color::Rgb;
 use crate::error::Result;
+use crate::math::color::Rgb;
 use crate::medium::blackbody::blackbody_emission;
 use crate::medium::GridEmission;
 use std::path::Path;

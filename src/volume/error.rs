@@ -54,6 +54,12 @@ pub enum VolumeError {
     },
 }
 
+impl From<VolumeError> for crate::error::Error {
+    fn from(e: VolumeError) -> Self {
+        crate::error::Error::Volume(e.to_string())
+    }
+}
+
 /// A parse failure before the file and grid names are attached.
 #[derive(Debug, Clone)]
 pub(crate) enum FormatError {

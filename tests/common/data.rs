@@ -59,13 +59,13 @@ pub fn read_text(path: &Path) -> String {
 /// A set variable that names no folder is an error, so a typo cannot skip
 /// the tests.
 pub fn real_volumes() -> Option<PathBuf> {
-    real_volumes_or(crate::common::skip::skip)
+    real_volumes_or(super::skip::skip)
 }
 
 /// As `real_volumes`, for a test whose committed-file part runs anyway: only
 /// its third-party part is recorded as skipped.
 pub fn real_volumes_for_part() -> Option<PathBuf> {
-    real_volumes_or(|reason| crate::common::skip::skip_part("third-party part", reason))
+    real_volumes_or(|reason| super::skip::skip_part("third-party part", reason))
 }
 
 fn real_volumes_or(skip: impl FnOnce(&str)) -> Option<PathBuf> {

@@ -1,0 +1,178 @@
+//! Lat-long (equirectangular) HDR environment maps, importance-sampled by a
+//! 2-D piecewise-constant distribution over texel luminance × sin θ.
+//!
+//! Convention (in the map's own frame, before `rotation`): texel column u ∈
+//! [0, 1) is the azimuth φ = 2πu measured from +X toward +Z, row v ∈ [0, 1)
+//! is the polar angle θ = πv from +Y (row 0 is straight up), so
+//! `dir = (sinθ cosφ, cosθ, sinθ sinφ)`. Radiance is constant over a texel.
+
+use crate::math::color::Rgb;
+use crate::math::{Quat, Vec2, Vec3};
+use crate::sampling::distribution::Distribution2D;
+use std::f32::consts::PI;
+
+/// An environment map with its sampling distribution.
+#[derive(Clone, Debug)]
+pub struct EnvMap {
+    width: usize,
+    height: usize,
+    /// Row-major texels (row 0 at the zenith), already multiplied by the scale.
+    texels: Vec<Rgb>,
+    distribution: Distribution2D,
+    /// Map frame → world.
+    rotation: Quat,
+}
+
+/// A direction sampled from an environment map.
+#[derive(Clone, Copy, Debug)]
+pub struct EnvSample {
+    /// World direction toward the sky.
+    pub wi: Vec3,
+    /// Radiance arriving from `wi`.
+    pub radiance: Rgb,
+    /// Solid-angle density.
+    pub pdf: f32,
+}
+
+impl EnvMap {
+    /// A map of `width` × `height` texels scaled by `scale` and turned by `rotation`.
+    ///
+    /// Returns `None` when the map is empty or black everywhere (nothing to sample).
+    pub fn new(
+        width: usize,
+        height: usize,
+        texels: Vec<Rgb>,
+        scale: Rgb,
+        rotation: Quat,
+    ) -> Option<EnvMap> {
+        if width == 0 || height == 0 || texels.len() != width * height {
+            return None;
+        }
+        let texels: Vec<Rgb> = texels.into_iter().map(|t| t * scale).collect();
+        let mut weights = Vec::with_capacity(texels.len());
+        for (i, t) in texels.iter().enumerate() {
+            let sin_theta = (PI * ((i / width) as f32 + 0.5) / height as f32).sin();
+            weights.push(t.luminance().max(0.0) * sin_theta);
+        }
+        let distribution = Distribution2D::new(&weights, width, height)?;
+        Some(EnvMap {
+            width,
+            height,
+            texels,
+            distribution,
+            rotation,
+        })
+    }
+
+    /// Map coordinates of a world direction.
+    fn uv(&self, dir: Vec3) -> Vec2 {
+        let d = self.rotation.inverse() * dir;
+        // atan2 keeps θ accurate near the poles, where acos(y) loses it.
+        let theta = (d.x * d.x + d.z * d.z).sqrt().atan2(d.y);
+        let mut phi = d.z.atan2(d.x);
+        if phi < 0.0 {
+            phi += 2.0 * PI;
+        }
+        Vec2::new(
+            (phi / (2.0 * PI)).min(1.0 - f32::EPSILON),
+            (theta / PI).min(1.0 - f32::EPSILON),
+        )
+    }
+
+    /// World direction of map coordinates.
+    fn direction(&self, uv: Vec2) -> Vec3 {
+        let (sin_t, cos_t) = (PI * uv.y).sin_cos();
+        let (sin_p, cos_p) = (2.0 * PI * uv.x).sin_cos();
+        self.rotation * Vec3::new(sin_t * cos_p, cos_t, sin_t * sin_p)
+    }
+
+    fn texel(&self, uv: Vec2) -> Rgb {
+        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
+        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
+        self.texels[y * self.width + x]
+    }
+
+    /// Radiance averaged over the sphere (each texel weighted by its solid angle, ∝ sin θ).
+    pub fn average(&self) -> Rgb {
+        let mut sum = [0.0f64; 3];
+        let mut weight = 0.0f64;
+        for (i, t) in self.texels.iter().enumerate() {
+            let sin_theta =
+                (std::f64::consts::PI * ((i / self.width) as f64 + 0.5) / self.height as f64).sin();
+            sum[0] += t.r as f64 * sin_theta;
+            sum[1] += t.g as f64 * sin_theta;
+            sum[2] += t.b as f64 * sin_theta;
+            weight += sin_theta;
+        }
+        let w = weight.max(f64::MIN_POSITIVE);
+        Rgb::new(
+            (sum[0] / w) as f32,
+            (sum[1] / w) as f32,
+            (sum[2] / w) as f32,
+        )
+    }
+
+    /// Radiance arriving from world direction `dir` (pointing away from the receiver).
+    pub fn radiance(&self, dir: Vec3) -> Rgb {
+        self.texel(self.uv(dir))
+    }
+
+    /// Solid-angle density with which `sample` picks `dir`.
+    pub fn pdf(&self, dir: Vec3) -> f32 {
+        let uv = self.uv(dir);
+        let sin_theta = (PI * uv.y).sin();
+        if sin_theta <= 0.0 {
+            return 0.0;
+        }
+        // dω = 2π² sinθ du dv.
+        self.distribution.pdf(uv) / (2.0 * PI * PI * sin_theta)
+    }
+
+    /// Samples a direction in proportion to luminance (times the texel's solid angle).
+    pub fn sample(&self, u: Vec2) -> Option<EnvSample> {
+        let (uv, pdf_uv) = self.distribution.sample(u);
+        let sin_theta = (PI * uv.y).sin();
+        if pdf_uv <= 0.0 || sin_theta <= 0.0 {
+            return None;
+        }
+        Some(EnvSample {
+            wi: self.direction(uv),
+            radiance: self.texel(uv),
+            pdf: pdf_uv / (2.0 * PI * PI * sin_theta),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::Sampler;
+
+    #[test]
+    fn directions_and_map_coordinates_round_trip() {
+        let map = EnvMap::new(
+            8,
+            4,
+            vec![Rgb::WHITE; 32],
+            Rgb::WHITE,
+            Quat::from_rotation_y(0.7),
+        )
+        .unwrap();
+        let mut s = Sampler::from_seed(3);
+        for _ in 0..100 {
+            let uv = s.next_2d() * 0.98 + Vec2::splat(0.01);
+            let back = map.uv(map.direction(uv));
+            assert!((back - uv).length() < 1e-4, "{uv} -> {back}");
+        }
+        // Row 0 is up, u = 0.25 points along +Z before the rotation.
+        let flat = EnvMap::new(8, 4, vec![Rgb::WHITE; 32], Rgb::WHITE, Quat::IDENTITY).unwrap();
+        assert!((flat.direction(Vec2::new(0.25, 0.5)) - Vec3::Z).length() < 1e-5);
+        assert!(flat.direction(Vec2::new(0.0, 0.0)).y > 0.999);
+    }
+
+    #[test]
+    fn black_maps_are_refused() {
+        assert!(EnvMap::new(2, 2, vec![Rgb::BLACK; 4], Rgb::WHITE, Quat::IDENTITY).is_none());
+        assert!(EnvMap::new(2, 2, vec![Rgb::WHITE; 3], Rgb::WHITE, Quat::IDENTITY).is_none());
+    }
+}
