@@ -109,6 +109,78 @@ fn bad_airlight_options_are_rejected() {
     }
 }
 
+/// Every refused `--width` or `--visibility` is reported under that flag, in
+/// the flag's terms: never under the demo's internal scene file, whose keys
+/// (`camera.resolution`, `medium[0].sigma_t`) the user never wrote. Widths
+/// below 64 and above 32768 (the renderer's largest side) are refused, as are
+/// visibilities whose extinction ln 50 / V is not a finite f32, in each mode.
+#[test]
+fn airlight_flag_errors_name_the_flag() {
+    let modes = [
+        AirlightMode::Sky,
+        AirlightMode::EmissionAbsorption,
+        AirlightMode::SingleScattering,
+    ];
+    let widths = [0, 1, 63, 32769, 40000, 1 << 20, u32::MAX];
+    let visibilities = [1e-39, 1e-40, 1e-45, 0.0, -1.0, f32::INFINITY, f32::NAN];
+    for mode in modes {
+        let base = AirlightOptions {
+            out: None,
+            mode,
+            ..AirlightOptions::default()
+        };
+        let cases = widths
+            .iter()
+            .map(|&width| {
+                (
+                    "--width",
+                    AirlightOptions {
+                        width,
+                        ..base.clone()
+                    },
+                )
+            })
+            .chain(visibilities.iter().map(|&visibility| {
+                (
+                    "--visibility",
+                    AirlightOptions {
+                        visibility,
+                        ..base.clone()
+                    },
+                )
+            }));
+        for (flag, options) in cases {
+            let message = match run(&options) {
+                Err(e) => e.to_string(),
+                Ok(_) => panic!(
+                    "{flag} {} {} was accepted",
+                    options.width, options.visibility
+                ),
+            };
+            assert!(
+                message.starts_with(&format!("invalid argument {flag}: ")),
+                "{flag} (width {}, visibility {}): {message}",
+                options.width,
+                options.visibility
+            );
+            for internal in ["airlight.toml", "camera", "resolution", "sigma_t", "medium"] {
+                assert!(!message.contains(internal), "{flag}: {message}");
+            }
+        }
+        // A tiny but representable visibility gives σt ≈ 3.9e20: the demo scene
+        // must write it as a float (not 21 digits TOML reads as an integer).
+        let dense = AirlightOptions {
+            visibility: 1e-20,
+            width: 64,
+            spp: 1,
+            ..base.clone()
+        };
+        if let Err(e) = run(&dense) {
+            panic!("visibility 1e-20 ({mode:?}): {e}");
+        }
+    }
+}
+
 /// The `brume airlight` subcommand writes its files and rejects a bad visibility with exit code 2.
 #[test]
 fn airlight_subcommand_runs() {
@@ -133,6 +205,22 @@ fn airlight_subcommand_runs() {
         .arg(dir.path().join("bad"))
         .assert()
         .code(2);
+    let wide = assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .args(["airlight", "--width", "100000", "--out"])
+        .arg(dir.path().join("wide"))
+        .output()
+        .unwrap();
+    assert_eq!(wide.status.code(), Some(2), "{wide:?}");
+    let stderr = String::from_utf8_lossy(&wide.stderr);
+    assert!(
+        stderr.contains("--width") && !stderr.contains("airlight.toml"),
+        "{stderr}"
+    );
+    assert!(
+        !dir.path().join("wide").exists(),
+        "a refused run made its folder"
+    );
 }
 
 /// The single-scattering configuration: a zenith sun over a scattering slab,

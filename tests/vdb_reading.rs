@@ -8,8 +8,8 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::data::{
-    read_text, real_volumes, shipped_volume, shipped_volumes_dir, test_volume, test_volumes_dir,
-    vdb_files_with_sidecars,
+    read_text, real_volumes, real_volumes_for_part, shipped_volume, shipped_volumes_dir,
+    test_volume, test_volumes_dir, vdb_files_with_sidecars,
 };
 
 use brume::volume::{info_report, load_float_grid, FloatGrid, VdbFile, VolumeError};
@@ -201,7 +201,7 @@ fn committed_volumes_match_openvdb() {
 
 #[test]
 fn real_houdini_files_match_openvdb() {
-    let Some(dir) = real_volumes("real_houdini_files_match_openvdb") else {
+    let Some(dir) = real_volumes() else {
         return;
     };
     assert_files(&vdb_files_with_sidecars(&dir));
@@ -421,7 +421,7 @@ fn every_active_voxel_agrees_with_vdb_rs_where_it_reads_correctly() {
             || n.contains("xform")
     };
     let mut all = committed_files();
-    if let Some(dir) = real_volumes("every_active_voxel_agrees_with_vdb_rs (third-party part)") {
+    if let Some(dir) = real_volumes_for_part() {
         all.extend(vdb_files_with_sidecars(&dir));
     }
     let files: Vec<PathBuf> = all.into_iter().filter(|p| !skip(p)).collect();

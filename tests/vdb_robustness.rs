@@ -9,15 +9,15 @@ use std::path::{Path, PathBuf};
 
 use brume::volume::{info_report, VdbFile};
 use common::data::{
-    read_bytes, read_text, real_volumes, shipped_volume, shipped_volumes_dir, test_volume,
+    read_bytes, read_text, real_volumes_for_part, shipped_volume, shipped_volumes_dir, test_volume,
     test_volumes_dir, vdb_files,
 };
 
 /// Every committed `.vdb` file, plus the third-party ones if their folder is set.
-fn all_files(test: &str) -> Vec<PathBuf> {
+fn all_files() -> Vec<PathBuf> {
     let mut out = vdb_files(&test_volumes_dir());
     out.extend(vdb_files(&shipped_volumes_dir()));
-    if let Some(dir) = real_volumes(&format!("{test} (third-party part)")) {
+    if let Some(dir) = real_volumes_for_part() {
         out.extend(vdb_files(&dir));
     }
     out
@@ -79,7 +79,7 @@ fn every_prefix_of_small_files_is_an_error() {
 #[test]
 fn truncated_copies_of_every_file_are_errors() {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
-    for path in all_files("truncated_copies_of_every_file_are_errors") {
+    for path in all_files() {
         let (name, data) = read(&path);
         let n = data.len();
         // the whole header and grid list, then a sample across the data
@@ -112,7 +112,7 @@ fn random_bytes_are_errors() {
 #[test]
 fn flipped_bytes_never_panic() {
     let mut rng = Rng(7);
-    for path in all_files("flipped_bytes_never_panic") {
+    for path in all_files() {
         let (name, data) = read(&path);
         for _ in 0..150 {
             let mut copy = data.clone();

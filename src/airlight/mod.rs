@@ -219,7 +219,7 @@ pub fn scene_text(options: &AirlightOptions) -> String {
                  [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, -0.25]\nirradiance = [3.0, 2.9, 2.7]\n\n\
                  [[light]]\ntype = \"sky\"\nzenith = [0.12, 0.2, 0.45]\nhorizon = [0.4, 0.45, 0.55]\nground = [0.08, 0.08, 0.07]\n\n\
                  # Haze in a layer 300 m deep above the eye, unbounded sideways.\n\
-                 [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t}\nalbedo = 0.9\nphase = {{ type = \"hg\", g = 0.6 }}\n\
+                 [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t:?}\nalbedo = 0.9\nphase = {{ type = \"hg\", g = 0.6 }}\n\
                  bounds = {{ type = \"box\", min = [-1.0e5, -1.0e4, -1.0e5], max = [1.0e5, 300.0, 1.0e5] }}\n",
                 options.spp, options.seed
             );
@@ -230,7 +230,7 @@ pub fn scene_text(options: &AirlightOptions) -> String {
                 "[integrator]\nspp = {}\nmax_depth = 1\nmax_scatter_depth = 1\nseed = {}\n\n\
                  [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, 0.0]\nirradiance = {SS_IRRADIANCE}\nangular_radius = 0.0\n\n\
                  # Isotropic haze in a slab {SLAB_TOP} m deep above the eye, unbounded sideways.\n\
-                 [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t}\nalbedo = {SS_ALBEDO}\n\
+                 [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t:?}\nalbedo = {SS_ALBEDO}\n\
                  bounds = {{ type = \"box\", min = [-1.0e6, -1.0e4, -1.0e6], max = [1.0e6, {SLAB_TOP}, 1.0e6] }}\n",
                 options.spp, options.seed
             );
@@ -240,7 +240,7 @@ pub fn scene_text(options: &AirlightOptions) -> String {
                 s,
                 "[integrator]\nspp = {}\nmax_depth = 0\nseed = {}\n\n\
                  # Absorbing, emitting air: L_air = emission exactly.\n\
-                 [[medium]]\ntype = \"homogeneous\"\nsigma_a = {sigma_t}\nemission = {EA_EMISSION}\nglobal = true\n",
+                 [[medium]]\ntype = \"homogeneous\"\nsigma_a = {sigma_t:?}\nemission = {EA_EMISSION}\nglobal = true\n",
                 options.spp, options.seed
             );
         }
@@ -279,6 +279,37 @@ pub fn scene_text(options: &AirlightOptions) -> String {
         }
     }
     s
+}
+
+/// Largest `--width`: the image is width × width/5 pixels, at most 32768 a side.
+const MAX_WIDTH: u32 = 32768;
+
+/// The demo scene and its TOML, built from the options. The user never wrote it:
+/// an error in it is reported under the flag that made the value.
+fn demo_scene(options: &AirlightOptions) -> Result<(crate::integrator::Scene, String)> {
+    let text = scene_text(options);
+    let file = PathBuf::from("airlight.toml");
+    crate::scene::parse(&text, &file)
+        .and_then(|desc| crate::scene::build(&desc, &file, Path::new(".")))
+        .map(|scene| (scene, text.clone()))
+        .map_err(|e| match e {
+            Error::Scene { field, message, .. } => {
+                let flag = match field.split(['.', '[']).next().unwrap_or("") {
+                    "camera" | "shape" => "--width",
+                    "medium" => "--visibility",
+                    "integrator" => "--spp",
+                    _ => "--width/--visibility/--spp",
+                };
+                Error::Argument {
+                    argument: flag.into(),
+                    message: format!(
+                        "the demo scene made from --width {} --visibility {:?} --spp {} is invalid: {message}",
+                        options.width, options.visibility, options.spp
+                    ),
+                }
+            }
+            other => other,
+        })
 }
 
 /// The files `brume airlight --out DIR` writes into DIR.
@@ -333,13 +364,20 @@ pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
     if options.width < 64 {
         return Err(argument("--width", "must be at least 64 pixels"));
     }
-    let text = scene_text(options);
-    let file = options.out.as_ref().map_or_else(
-        || PathBuf::from("airlight.toml"),
-        |d| d.join("airlight.toml"),
-    );
-    let desc = crate::scene::parse(&text, &file)?;
-    let scene = crate::scene::build(&desc, &file, Path::new("."))?;
+    if options.width > MAX_WIDTH {
+        return Err(argument(
+            "--width",
+            &format!("must be at most {MAX_WIDTH} pixels (brume renders at most 32768 a side)"),
+        ));
+    }
+    // σt = ln 50 / V must be a finite single-precision number
+    if 50f64.ln() / options.visibility as f64 > f32::MAX as f64 {
+        return Err(argument(
+            "--visibility",
+            "must be at least 1.2e-38 metres (ln 50 / visibility must fit single precision)",
+        ));
+    }
+    let (scene, text) = demo_scene(options)?;
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let bytes = crate::render::peak_bytes(w, h) as u128;
     crate::limits::check(bytes).map_err(|refusal| {

@@ -170,7 +170,7 @@ pub(super) fn free_flight_weight(
     }
     let ff = MediaAt::new(scene, ray, t, None).free_flight_density()
         * scene.light_pick_probability(light_index);
-    ff * ff / (ff * ff + eq * eq)
+    crate::sampling::power_heuristic(ff, eq)
 }
 
 /// One equiangular estimate of in-scattered light from a point or spot light along the segment.
@@ -216,7 +216,7 @@ pub(super) fn estimate(scene: &Scene, segment: &Segment, sampler: &mut Sampler) 
     let tr_light = scene.transmittance(&shadow, t_light, sampler);
     let eq = sample.pdf / segment.point_lights as f32;
     let ff = media.free_flight_density() * scene.light_pick_probability(light_index);
-    let weight = eq * eq / (eq * eq + ff * ff);
+    let weight = crate::sampling::power_heuristic(eq, ff);
     media.tr * media.in_scatter * tr_light * ls.radiance * (weight / eq)
 }
 

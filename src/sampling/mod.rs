@@ -202,16 +202,17 @@ impl Sampler<'_> {
 /// Power heuristic (β = 2) weight of strategy f against strategy g.
 #[inline]
 pub fn power_heuristic(f_pdf: f32, g_pdf: f32) -> f32 {
-    let f2 = f_pdf * f_pdf;
-    let g2 = g_pdf * g_pdf;
-    if f2.is_infinite() {
+    if f_pdf.is_infinite() {
         return 1.0;
     }
-    if f2 + g2 > 0.0 {
-        f2 / (f2 + g2)
-    } else {
-        0.0
+    // Squared as they are, densities above 1.8e19 (free flight in a medium of
+    // σt = 1e20) overflow to inf/inf = NaN; relative to the larger one they cannot.
+    let m = f_pdf.max(g_pdf);
+    if !(m > 0.0 && m.is_finite()) {
+        return 0.0;
     }
+    let (f, g) = (f_pdf / m, g_pdf / m);
+    f * f / (f * f + g * g)
 }
 
 #[cfg(test)]
@@ -423,5 +424,9 @@ mod tests {
         assert_eq!(power_heuristic(0.5, 0.0), 1.0);
         assert_eq!(power_heuristic(0.0, 0.5), 0.0);
         assert_eq!(power_heuristic(0.0, 0.0), 0.0);
+        // densities whose squares overflow f32
+        assert_eq!(power_heuristic(1e20, 1e20), 0.5);
+        assert!((power_heuristic(3e38, 1e38) - 0.9).abs() < 1e-6);
+        assert!((power_heuristic(1e38, 3e38) - 0.1).abs() < 1e-6);
     }
 }

@@ -18,8 +18,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// What a frame without a file of its own gets.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum MissingFrames {
     /// An error naming the missing file.
     #[default]
@@ -28,6 +27,17 @@ pub enum MissingFrames {
     Hold,
     /// The files repeat: first, …, last, first, …
     Repeat,
+}
+
+impl<'de> Deserialize<'de> for MissingFrames {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<MissingFrames, D::Error> {
+        const ALL: [MissingFrames; 3] = [
+            MissingFrames::Error,
+            MissingFrames::Hold,
+            MissingFrames::Repeat,
+        ];
+        Ok(ALL[super::messages::one_of(d, &["error", "hold", "repeat"])?])
+    }
 }
 
 /// `[animation]` as written.

@@ -137,13 +137,47 @@ pub struct TextureDesc {
 }
 
 /// `uv_scale`: one number for both axes or `[su, sv]`.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(untagged)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum UvScale {
     /// The same factor on u and v.
     Both(f32),
     /// Factors on u and v.
     Each([f32; 2]),
+}
+
+// By hand: an untagged enum's only message is "did not match any variant of UvScale".
+impl<'de> Deserialize<'de> for UvScale {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<UvScale, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = UvScale;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or an array of two numbers [su, sv]")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<UvScale, E> {
+                Ok(UvScale::Both(v as f32))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<UvScale, E> {
+                Ok(UvScale::Both(v as f32))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<UvScale, E> {
+                Ok(UvScale::Both(v as f32))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<UvScale, A::Error> {
+                let mut s = [0.0f32; 2];
+                for (i, slot) in s.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element::<f32>()?
+                        .ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<de::IgnoredAny>()?.is_some() {
+                    return Err(de::Error::invalid_length(3, &self));
+                }
+                Ok(UvScale::Each(s))
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 /// The whole scene file.
@@ -164,12 +198,19 @@ pub struct SceneDesc {
     /// `[[medium]]` entries (also accepted as `[[media]]`).
     #[serde(default, rename = "medium", alias = "media")]
     pub media: Vec<MediumDesc>,
+    /// How the file spells the media key, `medium` or `media`, for messages.
+    #[serde(skip, default = "default_media_key")]
+    pub media_key: &'static str,
     /// `[animation]`: frame rate, frame offset, missing frames.
     #[serde(default)]
     pub animation: super::animation::AnimationDesc,
     /// `[film]`.
     #[serde(default)]
     pub film: FilmDesc,
+}
+
+fn default_media_key() -> &'static str {
+    "medium"
 }
 
 /// `[film]`: what the EXR holds beside the beauty.
@@ -545,8 +586,7 @@ impl ShapeDesc {
 }
 
 /// The kinds of shape.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ShapeType {
     /// A sphere: `center`, `radius`.
     Sphere,
@@ -556,6 +596,19 @@ pub enum ShapeType {
     Box,
     /// A triangle mesh from a Wavefront OBJ `file`.
     Mesh,
+}
+
+impl<'de> Deserialize<'de> for ShapeType {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<ShapeType, D::Error> {
+        const KINDS: [ShapeType; 4] = [
+            ShapeType::Sphere,
+            ShapeType::Quad,
+            ShapeType::Box,
+            ShapeType::Mesh,
+        ];
+        let i = super::messages::one_of(d, &["sphere", "quad", "box", "mesh"])?;
+        Ok(KINDS[i])
+    }
 }
 
 /// `[[medium]]`: one participating medium.

@@ -1,9 +1,12 @@
 //! `type = "environment_map"` lights: reading the EXR and checking its texels.
 
 use super::description::Color;
+use super::files::{check_input, Format};
+use super::textures::MAX_TEXTURE_BYTES;
 use super::validate::Check;
 use crate::error::Result;
 use crate::light::envmap::EnvMap;
+use crate::math::color::Rgb;
 use crate::math::Quat;
 use std::path::Path;
 
@@ -16,16 +19,23 @@ pub(super) fn build(
     rotate: Option<[f32; 3]>,
 ) -> Result<EnvMap> {
     let file_field = format!("{field}.file");
-    if let Err(problem) = crate::error::regular_file(path) {
-        return Err(check.error(
-            &file_field,
-            format!("cannot read environment map {}: {problem}", path.display()),
-        ));
-    }
+    let what = "environment map";
+    check_input(
+        check,
+        &file_field,
+        what,
+        path,
+        Format::Exr,
+        MAX_TEXTURE_BYTES,
+    )?;
     let (width, height, texels) = crate::film::image_io::read_exr(path).map_err(|e| {
+        let message = match e {
+            crate::error::Error::Input { message, .. } => message,
+            other => other.to_string(),
+        };
         check.error(
             &file_field,
-            format!("cannot read environment map {}: {e}", path.display()),
+            format!("cannot read {what} {}: {message}", path.display()),
         )
     })?;
     super::textures::check_finite_texels(check, &file_field, path, width, &texels)?;
@@ -39,10 +49,36 @@ pub(super) fn build(
         }
         None => Quat::IDENTITY,
     };
+    let scale_field = match scale == Rgb::WHITE {
+        true => file_field.clone(),
+        false => format!("{field}.scale"),
+    };
+    check_scaled(check, &scale_field, &texels, scale)?;
     EnvMap::new(width, height, texels, scale, rotation).ok_or_else(|| {
         check.error(
             &file_field,
             format!("environment map {} is black everywhere", path.display()),
         )
+    })
+}
+
+/// Refuses a map whose brightest texel times `scale` overflows f32: its
+/// sampling distribution would have an infinite total (it used to be
+/// reported as "black everywhere").
+fn check_scaled(check: &Check, field: &str, texels: &[Rgb], scale: Rgb) -> Result<()> {
+    let brightest = super::overflow::brightest(texels.iter().copied());
+    super::overflow::product(
+        check,
+        field,
+        (brightest, "the brightest texel"),
+        (scale, "scale"),
+    )?;
+    // the sampling weight is the luminance, a weighted sum of the channels
+    let luminance = texels
+        .iter()
+        .map(|&t| (t * scale).luminance())
+        .fold(0.0, f32::max);
+    super::overflow::fits(check, field, luminance, luminance as f64, || {
+        "the brightest texel's luminance times scale".into()
     })
 }

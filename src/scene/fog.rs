@@ -5,6 +5,7 @@ use super::media::{build_phase, coefficients};
 use super::validate::Check;
 use crate::error::Result;
 use crate::math::color::Rgb;
+use crate::math::Vec3;
 use crate::medium::height_fog::sigma_t_from_visibility;
 use crate::medium::{HeightFog, Medium};
 
@@ -36,7 +37,15 @@ pub(crate) fn build_height_fog(desc: &MediumDesc, field: &str, check: &Check) ->
         }
         Some(v) => {
             let v = check.positive(&f("visibility"), *v)?;
-            let t = Color([sigma_t_from_visibility(v); 3]);
+            let t = sigma_t_from_visibility(v);
+            let exact = 50f64.ln() / v as f64;
+            super::overflow::fits(check, &f("visibility"), t, exact, || {
+                format!(
+                    "the extinction ln 50 / visibility {}",
+                    super::overflow::num(v)
+                )
+            })?;
+            let t = Color([t; 3]);
             coefficients(None, None, Some(t), *albedo, field, check)?
         }
         None if !explicit => {
@@ -52,7 +61,7 @@ pub(crate) fn build_height_fog(desc: &MediumDesc, field: &str, check: &Check) ->
         None => Rgb::BLACK,
     };
     if !emission.is_black() {
-        super::media::warn_inert_emission(field, sigma_a, check);
+        super::media::check_emission(field, sigma_a, emission, check)?;
     }
     Ok(Medium::HeightFog(HeightFog {
         sigma_a,
@@ -63,4 +72,34 @@ pub(crate) fn build_height_fog(desc: &MediumDesc, field: &str, check: &Check) ->
         height: check.finite(&f("height"), *height)?,
         scale_height: check.positive(&f("scale_height"), *scale_height)?,
     }))
+}
+
+/// Refuses a height fog infinitely dense where the camera is: its density
+/// grows without bound below `height`, and a camera whose σt (or source
+/// term σa·Le) overflows f32 would render nothing but NaN (`height = 1e30`).
+pub(super) fn check_at_camera(
+    medium: &Medium,
+    field: &str,
+    eye: Vec3,
+    check: &Check,
+) -> Result<()> {
+    let Medium::HeightFog(fog) = medium else {
+        return Ok(());
+    };
+    let p = fog.properties(eye);
+    let sigma_t = p.sigma_a + p.sigma_s;
+    if sigma_t.is_finite() && (p.sigma_a * fog.emission).is_finite() {
+        return Ok(());
+    }
+    let below = fog.height as f64 - fog.up.dot(eye) as f64;
+    Err(check.error(
+        &format!("{field}.height"),
+        format!(
+            "the camera is {} below the fog's reference height, {:.3e} scale heights, where its \
+             extinction (or emission) overflows single precision: it would sit in infinitely dense \
+             fog; lower height or raise scale_height",
+            super::overflow::num(below as f32),
+            below / fog.scale_height as f64
+        ),
+    ))
 }

@@ -1,6 +1,7 @@
 //! Turning `[[medium]]` entries into media.
 
 use super::description::{BoundsDesc, MediumDesc, PhaseDesc};
+use super::overflow;
 use super::shapes::build_transform;
 use super::validate::Check;
 use crate::error::Result;
@@ -65,6 +66,23 @@ pub(crate) fn coefficients(
     check: &Check,
 ) -> Result<(Rgb, Rgb)> {
     let f = |name: &str| format!("{field}.{name}");
+    let (sigma_a, sigma_s, key) =
+        split_coefficients(sigma_a, sigma_s, sigma_t, albedo, field, check)?;
+    // tracking samples distances with σt = σa + σs: an infinite one never ends a free flight
+    overflow::sum(check, &f(key), (sigma_a, "sigma_a"), (sigma_s, "sigma_s"))?;
+    Ok((sigma_a, sigma_s))
+}
+
+/// σa and σs as [`coefficients`] reads them, with the key that set their scale.
+fn split_coefficients(
+    sigma_a: Option<super::description::Color>,
+    sigma_s: Option<super::description::Color>,
+    sigma_t: Option<super::description::Color>,
+    albedo: Option<super::description::Color>,
+    field: &str,
+    check: &Check,
+) -> Result<(Rgb, Rgb, &'static str)> {
+    let f = |name: &str| format!("{field}.{name}");
     match (sigma_t, albedo) {
         (Some(t), a) => {
             if sigma_a.is_some() || sigma_s.is_some() {
@@ -78,7 +96,7 @@ pub(crate) fn coefficients(
                 Some(a) => check.albedo(&f("albedo"), a)?,
                 None => Rgb::WHITE,
             };
-            Ok((t * (Rgb::WHITE - a), t * a))
+            Ok((t * (Rgb::WHITE - a), t * a, "sigma_t"))
         }
         (None, Some(_)) => Err(check.error(&f("albedo"), "needs sigma_t")),
         (None, None) => {
@@ -89,16 +107,33 @@ pub(crate) fn coefficients(
                 ));
             }
             let zero = super::description::Color([0.0; 3]);
-            Ok((
-                check.color(&f("sigma_a"), sigma_a.unwrap_or(zero))?,
-                check.color(&f("sigma_s"), sigma_s.unwrap_or(zero))?,
-            ))
+            let a = check.color(&f("sigma_a"), sigma_a.unwrap_or(zero))?;
+            let s = check.color(&f("sigma_s"), sigma_s.unwrap_or(zero))?;
+            let key = match a.max_channel() >= s.max_channel() {
+                true => "sigma_a",
+                false => "sigma_s",
+            };
+            Ok((a, s, key))
         }
     }
 }
 
 /// Warns that emission given to a medium that absorbs nothing (albedo 1, or
-/// σa = 0) does nothing: the source term is σa·Le.
+/// σa = 0) does nothing: the source term is σa·Le. Refuses a source term
+/// that overflows.
+pub(crate) fn check_emission(
+    field: &str,
+    sigma_a: Rgb,
+    emission: Rgb,
+    check: &Check,
+) -> Result<()> {
+    let key = format!("{field}.emission");
+    overflow::product(check, &key, (sigma_a, "sigma_a"), (emission, "emission"))?;
+    warn_inert_emission(field, sigma_a, check);
+    Ok(())
+}
+
+/// Warns that emission given to a medium that absorbs nothing does nothing.
 pub(crate) fn warn_inert_emission(field: &str, sigma_a: Rgb, check: &Check) {
     if sigma_a.is_black() {
         check.warn(
@@ -186,7 +221,7 @@ pub(crate) fn build_medium(
                 None => Rgb::BLACK,
             };
             if !emission.is_black() {
-                warn_inert_emission(field, sigma_a, check);
+                check_emission(field, sigma_a, emission, check)?;
             }
             // Moving: the region is built in its local frame, placed per time.
             let keys = super::keyframes::moving_keys(transform.as_ref(), field, check)?;

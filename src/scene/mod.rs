@@ -4,18 +4,22 @@
 pub mod animation;
 pub mod description;
 mod envmap;
+mod files;
 mod fog;
 pub mod inputs;
 mod interior;
 mod keyframes;
 mod materials;
 mod media;
+mod messages;
+mod overflow;
 mod overrides;
 mod shapes;
 mod textures;
 mod validate;
 pub use overrides::Override;
 pub mod vdb;
+mod vdb_emission;
 
 use crate::camera::{Camera, FovAxis};
 use crate::error::{Error, Result};
@@ -108,18 +112,30 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
     for (key, value) in table.iter_mut() {
         retag(value, key, key).map_err(|(field, message)| scene_error(field, message))?;
     }
-    serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
-        let field = field_path(e.path());
-        let message = e.into_inner().message().trim().replace('\n', " ");
-        scene_error(
-            if field.is_empty() {
-                "scene".into()
-            } else {
-                field
-            },
-            message,
-        )
-    })
+    let media_key = match table.contains_key("media") {
+        true => "media",
+        false => "medium",
+    };
+    let desc: SceneDesc =
+        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            let mut field = field_path(e.path());
+            let message = messages::user_words(e.into_inner().message());
+            // a `type` was rewritten into a variant key by `retag`: name the key the user wrote
+            let last_key = field.rsplit('.').next().unwrap_or("");
+            let last_key = last_key.split('[').next().unwrap_or("");
+            if message.starts_with("unknown value") && TAGGED_KEYS.contains(&last_key) {
+                field.push_str(".type");
+            }
+            scene_error(
+                if field.is_empty() {
+                    "scene".into()
+                } else {
+                    field
+                },
+                message,
+            )
+        })?;
+    Ok(SceneDesc { media_key, ..desc })
 }
 
 /// What a TOML value is, in TOML's words (`a string "diffuse"`, `an array`).
@@ -142,6 +158,7 @@ fn table_example(key: &str) -> &'static str {
         "phase" => "{ type = \"hg\", g = 0.3 }",
         "bounds" => "{ type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }",
         "transform" => "{ translate = [0.0, 1.0, 0.0] }",
+        "interior" => "{ type = \"homogeneous\", sigma_t = 1.0 }",
         _ => "{ ... }",
     }
 }
@@ -214,7 +231,14 @@ fn retag(
     key: &str,
     path: &str,
 ) -> std::result::Result<(), (String, String)> {
+    let nested_tagged = TAGGED_KEYS.contains(&key) && !TOP_LEVEL_LISTS.contains(&key);
     match value {
+        toml::Value::Array(_) if nested_tagged => {
+            return Err((
+                path.to_string(),
+                format!("expected a table like {}, got an array", table_example(key)),
+            ));
+        }
         toml::Value::Array(items) => {
             for (i, item) in items.iter_mut().enumerate() {
                 retag(item, key, &format!("{path}[{i}]"))?;
@@ -232,17 +256,45 @@ fn retag(
             if TAGGED_KEYS.contains(&key) {
                 let name = match table.remove("type") {
                     Some(toml::Value::String(name)) => name,
-                    Some(_) => return Err((format!("{path}.type"), "must be a string".into())),
+                    Some(v) => {
+                        return Err((
+                            format!("{path}.type"),
+                            format!("expected a type name in quotes, got {}", toml_kind(&v)),
+                        ))
+                    }
                     None => return Err((path.to_string(), "missing key `type`".into())),
                 };
                 let inner = std::mem::take(table);
                 table.insert(name, toml::Value::Table(inner));
             }
         }
+        toml::Value::Datetime(d) => {
+            // toml hands a date to serde as a table with a private key, which no message explains
+            return Err((
+                path.to_string(),
+                format!(
+                    "expected a number, a string, an array or a table, got the date or time {d} \
+                     (no key takes one; quote it to make it a string)"
+                ),
+            ));
+        }
+        v if nested_tagged => {
+            return Err((
+                path.to_string(),
+                format!(
+                    "expected a table like {}, got {}",
+                    table_example(key),
+                    toml_kind(v)
+                ),
+            ));
+        }
         _ => {}
     }
     Ok(())
 }
+
+/// Top-level keys holding arrays of tables (`check_table_shapes` checks their items).
+const TOP_LEVEL_LISTS: [&str; 4] = ["light", "shape", "medium", "media"];
 
 /// `light[0].intensity[1]` from a serde path, leaving out enum variant names.
 fn field_path(path: &serde_path_to_error::Path) -> String {
@@ -447,7 +499,13 @@ pub fn build_frame(
         .media
         .iter()
         .enumerate()
-        .map(|(i, m)| media::build_medium(m, &format!("medium[{i}]"), &check, base, &timing))
+        .map(|(i, m)| {
+            let field = format!("{}[{i}]", desc.media_key);
+            let medium = media::build_medium(m, &field, &check, base, &timing)?;
+            let eye = crate::math::Vec3::from_array(desc.camera.position);
+            fog::check_at_camera(&medium, &field, eye, &check)?;
+            Ok(medium)
+        })
         .collect::<Result<Vec<_>>>()?;
     media.extend(interiors);
 

@@ -1,9 +1,10 @@
 //! Turning `[[shape]]` entries (and OBJ files) into primitives.
 
 use super::description::{ShapeDesc, ShapeType, TransformDesc};
+use super::files::{check_input, Format};
 use super::resolve;
 use super::validate::Check;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geometry::Primitive;
 use crate::math::keyframes::Keyframes;
 use crate::math::{Affine3A, Frame, Vec2, Vec3};
@@ -171,21 +172,16 @@ const MAX_OBJ_BYTES: u64 = 2 << 30;
 
 /// Triangles of an OBJ file, transformed by `m`, with their `vt` coordinates if every model has them.
 fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<BuiltShape> {
-    if let Some(problem) = crate::error::input_file_problem(path, MAX_OBJ_BYTES) {
-        return Err(check.error(
-            field,
-            format!("cannot read OBJ file {}: {problem}", path.display()),
-        ));
-    }
+    check_input(check, field, "OBJ file", path, Format::Obj, MAX_OBJ_BYTES)?;
+    // every problem inside the file is reported under the key that named it
+    let bad = |message: String| check.error(field, format!("{}: {message}", path.display()));
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
         ..Default::default()
     };
-    let (models, _) = tobj::load_obj(path, &options).map_err(|e| Error::Input {
-        path: path.to_path_buf(),
-        message: format!("cannot read OBJ: {e}"),
-    })?;
+    let (models, _) =
+        tobj::load_obj(path, &options).map_err(|e| bad(format!("cannot read OBJ: {e}")))?;
     let normal_matrix = m.matrix3.inverse().transpose();
     let mut prims = Vec::new();
     let mut texcoords = Vec::new();
@@ -218,20 +214,14 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
             }
         };
         for tri in mesh.indices.chunks_exact(3) {
-            let bad = || Error::Input {
-                path: path.to_path_buf(),
-                message: format!("model {:?}: face index out of range", model.name),
-            };
+            let out_of_range = || bad(format!("model {:?}: face index out of range", model.name));
             let p = [
-                vertex(tri[0]).ok_or_else(bad)?,
-                vertex(tri[1]).ok_or_else(bad)?,
-                vertex(tri[2]).ok_or_else(bad)?,
+                vertex(tri[0]).ok_or_else(out_of_range)?,
+                vertex(tri[1]).ok_or_else(out_of_range)?,
+                vertex(tri[2]).ok_or_else(out_of_range)?,
             ];
             if !p.iter().all(|v| v.is_finite()) {
-                return Err(Error::Input {
-                    path: path.to_path_buf(),
-                    message: format!("model {:?}: non-finite vertex", model.name),
-                });
+                return Err(bad(format!("model {:?}: non-finite vertex", model.name)));
             }
             if (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0 {
                 continue;
@@ -243,19 +233,16 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
             if has_uv {
                 let t = [uv(tri[0]), uv(tri[1]), uv(tri[2])];
                 let [Some(a), Some(b), Some(c)] = t else {
-                    return Err(Error::Input {
-                        path: path.to_path_buf(),
-                        message: format!(
-                            "model {:?}: texture coordinate index out of range",
-                            model.name
-                        ),
-                    });
+                    return Err(bad(format!(
+                        "model {:?}: texture coordinate index out of range",
+                        model.name
+                    )));
                 };
                 if !(a.is_finite() && b.is_finite() && c.is_finite()) {
-                    return Err(Error::Input {
-                        path: path.to_path_buf(),
-                        message: format!("model {:?}: non-finite texture coordinate", model.name),
-                    });
+                    return Err(bad(format!(
+                        "model {:?}: non-finite texture coordinate",
+                        model.name
+                    )));
                 }
                 texcoords.push([a, b, c]);
             } else {
@@ -264,10 +251,10 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
         }
     }
     if prims.is_empty() {
-        return Err(Error::Input {
-            path: path.to_path_buf(),
-            message: "OBJ file holds no triangles".into(),
-        });
+        return Err(bad(
+            "holds no triangles (no face `f` with 3 or more vertices): is it a Wavefront OBJ file?"
+                .into(),
+        ));
     }
     Ok(BuiltShape {
         primitives: prims,

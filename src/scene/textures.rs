@@ -2,6 +2,7 @@
 //! and `{ type = "checkerboard", a, b }`, read and checked once at scene load.
 
 use super::description::{Color, ColorOrTexture, TextureDesc, UvScale};
+use super::files::{check_input, Format};
 use super::resolve;
 use super::validate::Check;
 use crate::error::Result;
@@ -21,7 +22,7 @@ pub(super) enum Range {
 }
 
 /// Largest texture file read.
-const MAX_TEXTURE_BYTES: u64 = 1 << 30;
+pub(super) const MAX_TEXTURE_BYTES: u64 = 1 << 30;
 
 /// Images already read in this scene, so that a file used twice is decoded once.
 #[derive(Default)]
@@ -71,6 +72,18 @@ pub(super) fn build(
         None => Rgb::WHITE,
     };
     let image = image(check, field, desc, base, cache)?;
+    let texels = (0..image.height()).flat_map(|j| (0..image.width()).map(move |i| (i, j)));
+    let brightest = super::overflow::brightest(texels.map(|(i, j)| image.texel(i, j)));
+    let scale_field = match desc.scale {
+        Some(_) => f("scale"),
+        None => f("file"),
+    };
+    super::overflow::product(
+        check,
+        &scale_field,
+        (brightest, "the brightest texel"),
+        (scale, "scale"),
+    )?;
     if range == Range::Albedo {
         check_albedo_texels(check, &f("file"), &image, scale, desc)?;
     }
@@ -157,6 +170,13 @@ fn image(
             ))
         }
     };
+    // what the path is comes first: `/dev/zero` is a device whatever its name
+    if let Some(problem) = crate::error::input_file_problem(&path, MAX_TEXTURE_BYTES) {
+        return Err(check.error(
+            &file_field,
+            format!("cannot read texture {}: {problem}", path.display()),
+        ));
+    }
     let exr = match path.extension().and_then(|e| e.to_str()) {
         Some(e) if e.eq_ignore_ascii_case("exr") => true,
         Some(e) if e.eq_ignore_ascii_case("png") => false,
@@ -194,9 +214,15 @@ fn image(
             format!("cannot read texture {}: {message}", path.display()),
         )
     };
-    if let Some(problem) = crate::error::input_file_problem(&path, MAX_TEXTURE_BYTES) {
-        return Err(read_error(problem));
-    }
+    let format = if exr { Format::Exr } else { Format::Png };
+    check_input(
+        check,
+        &file_field,
+        "texture",
+        &path,
+        format,
+        MAX_TEXTURE_BYTES,
+    )?;
     let (width, height, texels) = if exr {
         read_exr_texels(&path).map_err(read_error)?
     } else {

@@ -48,6 +48,13 @@ impl Check {
     pub fn finite(&self, field: &str, v: f32) -> Result<f32, Error> {
         if v.is_finite() {
             Ok(v)
+        } else if v.is_infinite() {
+            // 1e39 as written reads as inf: say so rather than "got inf"
+            Err(self.error(
+                field,
+                "must be a finite number between -3.4e38 and 3.4e38 (single precision), \
+                 got one beyond it (or inf)",
+            ))
         } else {
             Err(self.error(field, format!("must be a finite number, got {v}")))
         }

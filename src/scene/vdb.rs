@@ -28,12 +28,15 @@ use std::sync::Arc;
 
 use super::animation::{self, Timing};
 use super::description::{Color, PhaseDesc, TransformDesc};
+use super::files::{check_input, Format};
 use super::media::build_phase;
+use super::overflow;
 use super::validate::Check;
+use super::vdb_emission::build_emission;
 use crate::error::Result;
 use crate::math::color::Rgb;
 use crate::medium::{
-    GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, MajorantTooLarge, Medium,
+    GridMedium, GridMediumParams, GridMotion, MajorantMode, MajorantTooLarge, Medium,
 };
 use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid, VolumeError, MAX_VDB_BYTES};
 
@@ -94,13 +97,10 @@ fn default_density_scale() -> f32 {
     1.0
 }
 
-/// Kelvin per unit of temperature-grid value when `temperature_scale` is absent.
-const DEFAULT_TEMPERATURE_SCALE: f32 = 1000.0;
-
 /// Loads grid `name` of `path`, turning a volume error into one that names the
 /// field: the grid's field for a grid problem, `file_field` when the file
 /// itself cannot be read (not a VDB, damaged header).
-fn load(
+pub(super) fn load(
     path: &Path,
     name: &str,
     (file_field, field): (&str, &str),
@@ -120,13 +120,13 @@ fn load(
 /// `scale` overflows f32, or no positive value at all (a level set given as
 /// a density renders as nothing); warns when some values are negative (they
 /// count as 0). `fields` are (the grid's field, the scale's field).
-fn check_values(
+pub(super) fn check_values(
     grid: &FloatGrid,
     fields: (&str, &str),
     scale: f32,
     density: bool,
     check: &Check,
-) -> Result<()> {
+) -> Result<crate::volume::ValueCensus> {
     let c = check_finite(grid, fields, scale, check)?;
     let name = grid.name();
     if density && c.max_finite <= 0.0 && scale > 0.0 {
@@ -148,7 +148,7 @@ fn check_values(
             ),
         );
     }
-    Ok(())
+    Ok(c)
 }
 
 /// Refuses NaN or infinite values and values whose product with `scale`
@@ -180,7 +180,9 @@ fn check_finite(
         return Err(check.error(
             fields.1,
             format!(
-                "{scale} times the largest value {largest:e} of grid '{name}' overflows single precision (above 3.4e38)"
+                "{} times the largest value {} of grid '{name}' overflows single precision (above 3.4e38)",
+                super::overflow::num(scale),
+                super::overflow::num(largest)
             ),
         ));
     }
@@ -197,12 +199,14 @@ pub(crate) fn build_vdb_medium(
 ) -> Result<Medium> {
     let f = |name: &str| format!("{field}.{name}");
     let path = frame_file(&super::resolve(base, &desc.file), &f("file"), check, timing)?;
-    if let Some(problem) = crate::error::input_file_problem(&path, MAX_VDB_BYTES) {
-        return Err(check.error(
-            &f("file"),
-            format!("cannot read VDB file {}: {problem}", path.display()),
-        ));
-    }
+    check_input(
+        check,
+        &f("file"),
+        "VDB file",
+        &path,
+        Format::Vdb,
+        MAX_VDB_BYTES,
+    )?;
     let density_scale = check.finite(&f("density_scale"), desc.density_scale)?;
     if density_scale < 0.0 {
         return Err(check.error(&f("density_scale"), "must not be negative"));
@@ -227,16 +231,30 @@ pub(crate) fn build_vdb_medium(
     };
     let motion = build_motion(desc, &path, field, check, timing)?;
     let density = load(&path, &desc.grid, (&f("file"), &f("grid")), check)?;
+    overflow::product(
+        check,
+        &f("density_scale"),
+        (Rgb::splat(density_scale), "density_scale"),
+        (sigma_t_scale, "sigma_t_scale"),
+    )?;
     let peak = density_scale * sigma_t_scale.max_channel();
-    check_values(
+    let census = check_values(
         &density,
         (&f("grid"), &f("density_scale")),
         peak,
         true,
         check,
     )?;
-    let emission = build_emission(desc, &path, field, check)?;
-    if !matches!(emission, GridEmission::None) {
+    let (emission, brightest) = build_emission(desc, &path, field, check)?;
+    if let Some((le, key)) = brightest {
+        // the densest voxel's σa times the brightest Le bounds the source term σa·Le
+        let sigma_a = (Rgb::WHITE - albedo) * sigma_t_scale * (census.max_finite * density_scale);
+        overflow::product(
+            check,
+            &key,
+            (sigma_a, "the densest voxel's sigma_a"),
+            (le, "the brightest emission"),
+        )?;
         super::media::warn_inert_emission(field, (Rgb::WHITE - albedo) * sigma_t_scale, check);
     }
     // Moving: the grid is built in the file's frame, placed per time.
@@ -343,83 +361,4 @@ fn build_motion(
         scale: scale / timing.fps,
         shutter,
     }))
-}
-
-/// Emission from at most one of `emission`, `temperature_grid` and `emission_grid`.
-fn build_emission(desc: &VdbDesc, path: &Path, field: &str, check: &Check) -> Result<GridEmission> {
-    let f = |name: &str| format!("{field}.{name}");
-    let emission_scale = match desc.emission_scale {
-        Some(c) => Some(check.color(&f("emission_scale"), c)?),
-        None => None,
-    };
-    let given = [
-        desc.emission.is_some(),
-        desc.temperature_grid.is_some(),
-        desc.emission_grid.is_some(),
-    ];
-    if given.iter().filter(|&&g| g).count() > 1 {
-        return Err(check.error(
-            field,
-            "give at most one of emission, temperature_grid and emission_grid",
-        ));
-    }
-    if desc.temperature_scale.is_some() && desc.temperature_grid.is_none() {
-        return Err(check.error(&f("temperature_scale"), "needs temperature_grid"));
-    }
-    if let Some(le) = desc.emission {
-        if emission_scale.is_some() {
-            return Err(check.error(
-                &f("emission_scale"),
-                "applies to temperature_grid or emission_grid, not to emission",
-            ));
-        }
-        return Ok(GridEmission::Constant(check.color(&f("emission"), le)?));
-    }
-    let emission_scale = emission_scale.unwrap_or(Rgb::WHITE);
-    if let Some(name) = &desc.temperature_grid {
-        let scale = desc.temperature_scale.unwrap_or(DEFAULT_TEMPERATURE_SCALE);
-        let temperature = load(path, name, (&f("file"), &f("temperature_grid")), check)?;
-        let scale_field = match desc.temperature_scale {
-            Some(_) => f("temperature_scale"),
-            None => f("temperature_grid"),
-        };
-        let temperature_scale = check.positive(&f("temperature_scale"), scale)?;
-        check_values(
-            &temperature,
-            (&f("temperature_grid"), &scale_field),
-            temperature_scale,
-            false,
-            check,
-        )?;
-        return Ok(GridEmission::Blackbody {
-            temperature,
-            temperature_scale,
-            emission_scale,
-        });
-    }
-    if let Some(name) = &desc.emission_grid {
-        let grid = load(path, name, (&f("file"), &f("emission_grid")), check)?;
-        let scale_field = match desc.emission_scale {
-            Some(_) => f("emission_scale"),
-            None => f("emission_grid"),
-        };
-        check_values(
-            &grid,
-            (&f("emission_grid"), &scale_field),
-            emission_scale.max_channel(),
-            false,
-            check,
-        )?;
-        return Ok(GridEmission::Grid {
-            grid,
-            emission_scale,
-        });
-    }
-    if desc.emission_scale.is_some() {
-        return Err(check.error(
-            &f("emission_scale"),
-            "needs temperature_grid or emission_grid",
-        ));
-    }
-    Ok(GridEmission::None)
 }

@@ -55,9 +55,20 @@ pub fn read_text(path: &Path) -> String {
 }
 
 /// The folder of third-party volumes named by `BRUME_REAL_VOLUMES`, or `None`
-/// after printing that `test` is skipped. A set variable that names no folder
-/// is an error, so a typo cannot skip the tests silently.
-pub fn real_volumes(test: &str) -> Option<PathBuf> {
+/// after the running test is recorded as skipped (`skip`: a failure under CI).
+/// A set variable that names no folder is an error, so a typo cannot skip
+/// the tests.
+pub fn real_volumes() -> Option<PathBuf> {
+    real_volumes_or(super::skip::skip)
+}
+
+/// As `real_volumes`, for a test whose committed-file part runs anyway: only
+/// its third-party part is recorded as skipped.
+pub fn real_volumes_for_part() -> Option<PathBuf> {
+    real_volumes_or(|reason| super::skip::skip_part("third-party part", reason))
+}
+
+fn real_volumes_or(skip: impl FnOnce(&str)) -> Option<PathBuf> {
     match std::env::var_os(REAL_VOLUMES_VAR) {
         Some(dir) if !dir.is_empty() => {
             let dir = PathBuf::from(dir);
@@ -69,8 +80,9 @@ pub fn real_volumes(test: &str) -> Option<PathBuf> {
             Some(dir)
         }
         _ => {
-            println!("skipped {test}: {REAL_VOLUMES_VAR} is not set (see README, set-up)");
-            eprintln!("skipped {test}: {REAL_VOLUMES_VAR} is not set (see README, set-up)");
+            skip(&format!(
+                "{REAL_VOLUMES_VAR} is not set (the third-party volumes: README, set-up)"
+            ));
             None
         }
     }

@@ -1,6 +1,6 @@
 //! Helpers shared by the integration tests: scenes from TOML text,
 //! per-pixel Monte Carlo estimates, the one statistical assertion (`stats`)
-//! and where the test files are (`data`).
+//! where the test files are (`data`) and the one way to skip a test (`skip`).
 #![allow(dead_code, clippy::needless_range_loop)]
 
 use brume::integrator::tracking::{sample_free_flight, FreeFlight};
@@ -16,6 +16,7 @@ pub mod data;
 pub mod k_sigma;
 pub mod paths;
 pub mod scene_text;
+pub mod skip;
 pub mod stats;
 
 pub use scene_text::SceneText;
