@@ -9,9 +9,11 @@ use crate::texture::Texture;
 use std::f32::consts::PI;
 use std::sync::Arc;
 
+mod emission;
 mod moving;
 mod pick;
 mod sphere;
+pub use emission::{EmissionSample, SceneSphere};
 pub use pick::{LightPick, UNIFORM_SHARE};
 use sphere::Cone;
 
@@ -150,6 +152,10 @@ pub struct LightSample {
     pub pdf: f32,
     /// True when no other strategy can find this light.
     pub is_delta: bool,
+    /// Unit geometric normal of an area light at the sampled point (zero for
+    /// point lights and lights at infinity): bidirectional MIS converts the
+    /// sample's density to area measure with it.
+    pub normal: Vec3,
 }
 
 impl Light {
@@ -278,6 +284,7 @@ impl Light {
                     radiance: *intensity / dist2,
                     pdf: 1.0,
                     is_delta: true,
+                    normal: Vec3::ZERO,
                 })
             }
             Light::Spot {
@@ -298,6 +305,7 @@ impl Light {
                     radiance: *intensity * (falloff / dist2),
                     pdf: 1.0,
                     is_delta: true,
+                    normal: Vec3::ZERO,
                 })
             }
             Light::Area {
@@ -318,6 +326,7 @@ impl Light {
                         radiance: *irradiance,
                         pdf: 1.0,
                         is_delta: true,
+                        normal: Vec3::ZERO,
                     });
                 }
                 let local = warp::square_to_uniform_cone(u, *cos_max);
@@ -327,6 +336,7 @@ impl Light {
                     radiance: sun_radiance(*irradiance, *cos_max),
                     pdf: warp::uniform_cone_pdf(*cos_max),
                     is_delta: false,
+                    normal: Vec3::ZERO,
                 })
             }
             Light::Environment(Environment::Map(map)) => map.sample(u).map(|s| LightSample {
@@ -335,6 +345,7 @@ impl Light {
                 radiance: s.radiance,
                 pdf: s.pdf,
                 is_delta: false,
+                normal: Vec3::ZERO,
             }),
             Light::Environment(env) => {
                 let (wi, pdf) = match normal {
@@ -354,6 +365,7 @@ impl Light {
                     radiance: env.radiance(wi),
                     pdf,
                     is_delta: false,
+                    normal: Vec3::ZERO,
                 })
             }
         }
@@ -422,6 +434,7 @@ impl Light {
             radiance,
             pdf: dist2 / (cos_light.abs() * total),
             is_delta: false,
+            normal: a.n,
         })
     }
 

@@ -1,0 +1,26 @@
+//! Bidirectional path tracing against the path tracer on surface scenes:
+//! the same image in expectation, every strategy (s, t) included.
+
+mod bdpt_support;
+
+use bdpt_support::*;
+
+#[test]
+fn diffuse_box_matches_the_path_tracer() {
+    let scene = scene_from_str(&diffuse_box(6, 0.5, DIFFUSE_SPHERE));
+    let path = estimate_pixels(&scene, 2048);
+    let bdpt = bdpt_pixels(&scene, 512);
+    eprintln!("path {:?} bdpt {:?}", image_mean(&path), image_mean(&bdpt));
+    assert_agree(&bdpt, &path, "diffuse box");
+}
+
+/// A mirror and a glass sphere: paths through Dirac BSDFs, which no
+/// connection can end at, weighed among the strategies that remain.
+#[test]
+fn specular_spheres_match_the_path_tracer() {
+    let scene = scene_from_str(&diffuse_box(6, 0.8, SPECULAR_SPHERES));
+    let path = estimate_pixels(&scene, 4096);
+    let bdpt = bdpt_pixels(&scene, 1024);
+    eprintln!("path {:?} bdpt {:?}", image_mean(&path), image_mean(&bdpt));
+    assert_agree(&bdpt, &path, "specular spheres");
+}
