@@ -334,6 +334,15 @@ fn apply_overrides(
     scene: &mut brume::integrator::Scene,
     args: &RenderArgs,
 ) -> Result<brume::tonemap::Tonemap> {
+    if scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt {
+        // No silent fallback to the path tracer until the driver calls the bidirectional estimator.
+        return Err(Error::Scene {
+            file: args.scene.clone(),
+            field: "integrator.type".into(),
+            message: "\"bdpt\" is not wired into `brume render` yet (issue 31): use \"path\""
+                .into(),
+        });
+    }
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));
