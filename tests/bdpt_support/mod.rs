@@ -1,7 +1,7 @@
 //! Helpers of the bidirectional tests: per-pixel estimates of the BDPT
 //! image (camera estimates plus light-tracing splats, pass by pass) beside
 //! the path tracer's, and their comparison at the suite's k.
-#![allow(dead_code)]
+#![allow(dead_code, clippy::needless_range_loop)]
 
 #[path = "../common/mod.rs"]
 pub mod common;

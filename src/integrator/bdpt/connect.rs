@@ -4,6 +4,7 @@
 
 use super::media::{self, Surrogate};
 use super::mis::{weight, Strategy};
+use super::positive;
 use super::subpath::reverse_density;
 use super::vertex::{Kind, Vertex};
 use crate::camera::CameraConnection;
@@ -115,7 +116,7 @@ impl Context<'_> {
         let to = nudge(b, b_normal, -toward);
         let chord = to - from;
         let length = chord.length();
-        if !(length > 0.0) {
+        if !positive(length) {
             return Rgb::BLACK;
         }
         let mut ray = Ray::new(from, chord / length);
@@ -232,7 +233,7 @@ pub(super) fn next_event(ctx: &Context, camera: &[Vertex], sampler: &mut Sampler
     };
     let f = z.f_camera(ls.wi);
     let pmf = ctx.light_pmf(index as u32);
-    if f.is_black() || !(ls.pdf > 0.0) || ls.radiance.is_black() {
+    if f.is_black() || !positive(ls.pdf) || ls.radiance.is_black() {
         return Contribution::default();
     }
     let infinite = !ls.distance.is_finite();
@@ -310,7 +311,7 @@ pub(super) fn connect(
     let (y, z) = (&light[light.len() - 1], &camera[camera.len() - 1]);
     let d = y.p - z.p;
     let dist2 = d.length_squared();
-    if !(dist2 > 0.0) {
+    if !positive(dist2) {
         return Contribution::default();
     }
     let w = d / dist2.sqrt();

@@ -27,6 +27,7 @@
 //! A segment's τ̃ is computed from its lexicographically smaller end, so
 //! both directions give the same number and the weights sum to one exactly.
 
+use super::positive;
 use crate::color::Rgb;
 use crate::integrator::Scene;
 use crate::math::{Ray, Vec3};
@@ -125,7 +126,7 @@ fn midpoint_depth(medium: &Medium, ray: &Ray, t_max: f32, time: f32) -> Rgb {
     for seg in medium.majorants(ray, t_max) {
         let t1 = seg.t1.min(t_max);
         let length = t1 - seg.t0;
-        if !(length > 0.0) || seg.sigma_maj <= 0.0 {
+        if !positive(length) || seg.sigma_maj <= 0.0 {
             continue;
         }
         if !length.is_finite() {

@@ -213,6 +213,12 @@ fn run(
     radiance
 }
 
+/// True for a positive number (false for zero, negatives and NaN).
+#[inline]
+fn positive(x: f32) -> bool {
+    x > 0.0
+}
+
 /// True when strategy (s, t) is traced for these subpaths: both endpoints
 /// can be joined, and the path is in the path tracer's set (depth limits).
 fn allowed(scene: &Scene, light: &[Vertex], camera: &[Vertex], s: usize, t: usize) -> bool {

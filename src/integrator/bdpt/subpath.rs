@@ -3,6 +3,7 @@
 //! vertex with its densities in both directions.
 
 use super::media::Surrogate;
+use super::positive;
 use super::vertex::{Kind, Vertex};
 use crate::color::Rgb;
 use crate::integrator::tracking::{sample_free_flight, FreeFlight};
@@ -304,7 +305,7 @@ fn scatter(scene: &Scene, walk: &mut Walk, path: &mut [Vertex], sampler: &mut Sa
         }
         _ => return false,
     };
-    if !(pdf > 0.0) || weight.is_black() {
+    if !positive(pdf) || weight.is_black() {
         return false;
     }
     walk.beta *= weight;
@@ -346,7 +347,7 @@ fn roulette(scene: &Scene, walk: &mut Walk, depth: usize, sampler: &mut Sampler)
         return true;
     }
     let q = (walk.beta.max_channel() / walk.beta_start).min(0.95);
-    if !(q > 0.0) || sampler.next_1d() >= q {
+    if !positive(q) || sampler.next_1d() >= q {
         return false;
     }
     walk.beta /= q;
