@@ -196,23 +196,3 @@ transform = { keyframes = [{ time = -0.5, translate = [0.0, 0.3, 0.9] }, { time 
         "motion blur",
     );
 }
-
-#[test]
-#[ignore]
-fn scratch_sun() {
-    for body in [SKY_LIGHTS.to_string(), format!("{SKY_LIGHTS}{MATERIALS}")] {
-        let scene = scene_from_str(&stage("", &body));
-        let path = estimate_pixels(&scene, 8192);
-        let bdpt = bdpt_pixels(&scene, 4096);
-        let se = |p: &[Estimate]| {
-            p.iter().map(|e| e.std_error[0].powi(2)).sum::<f64>().sqrt() / p.len() as f64
-        };
-        eprintln!(
-            "path {:?} ± {} bdpt {:?} ± {}",
-            image_mean(&path),
-            se(&path),
-            image_mean(&bdpt),
-            se(&bdpt)
-        );
-    }
-}

@@ -27,25 +27,3 @@ fn every_strategy_alone_matches_the_path_tracer_in_a_diffuse_box() {
         }
     }
 }
-
-#[test]
-#[ignore]
-fn scratch_two_two() {
-    let text = |d: u32| diffuse_box(d, 1.6, DIFFUSE_SPHERE);
-    let path = path_tracer_length(text, 3, 16384);
-    let scene = scene_from_str(&text(2));
-    for ((s, t), est) in unweighted_pixels(&scene, 16384, &[(2, 2), (1, 3), (3, 1)]) {
-        eprintln!(
-            "({s},{t}) {:?} vs path {:?}",
-            image_mean(&est),
-            image_mean(&path)
-        );
-        let se: f64 = est
-            .iter()
-            .map(|e| e.std_error[0].powi(2))
-            .sum::<f64>()
-            .sqrt()
-            / est.len() as f64;
-        eprintln!("se {se}");
-    }
-}

@@ -33,15 +33,19 @@ mod mis;
 pub mod strategies;
 mod subpath;
 mod vertex;
+mod weights;
+#[cfg(test)]
+mod weights_tests;
 
 use crate::color::Rgb;
 use crate::film::Splat;
 use crate::integrator::Scene;
 use crate::light::SceneSphere;
 use crate::sampling::PixelStreams;
-use connect::{Context, Contribution};
+use connect::Contribution;
 use media::Surrogate;
 use vertex::{Kind, Vertex};
+use weights::Context;
 
 /// Per-thread storage of the subpaths, reused from sample to sample (no allocation per path).
 #[derive(Debug, Default)]

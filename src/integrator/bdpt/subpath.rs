@@ -168,7 +168,8 @@ fn random_walk(
             return;
         };
         let prev = path.len() - 1;
-        set_forward_density(sur, &walk, &path[prev], &mut v);
+        let (dir, pdf_dir) = (walk.ray.direction, walk.pdf_dir);
+        forward_density(sur, &path[prev], &mut v, dir, pdf_dir, walk.from_infinity);
         v.media = path[prev].media + matches!(v.kind, Kind::Medium { .. }) as u32;
         path.push(v);
         if walk.mode == Mode::Camera && v.media as usize >= max_media {
@@ -248,22 +249,36 @@ fn next_vertex(
     Some(v)
 }
 
-/// The density of `v` from `prev` along the walk, with its surrogate free flight.
-fn set_forward_density(sur: &Surrogate, walk: &Walk, prev: &Vertex, v: &mut Vertex) {
+/// Sets the density of `v` reached from `prev` along `dir`, sampled there
+/// with solid-angle density `pdf_dir` (or, just after a light at infinity,
+/// from its disk of density `from_infinity`), with its surrogate free flight.
+pub(super) fn forward_density(
+    sur: &Surrogate,
+    prev: &Vertex,
+    v: &mut Vertex,
+    dir: Vec3,
+    pdf_dir: f32,
+    from_infinity: Option<f32>,
+) {
     if let Kind::Medium { .. } = v.kind {
         v.sigma_t = sur.sigma_t(v.p);
     }
-    let dir = walk.ray.direction;
-    if let Some(disk_pdf) = walk.from_infinity {
+    if let Some(disk_pdf) = from_infinity {
         v.tau_in = sur.depth_to_infinity(v.p, -dir);
         v.pdf_fwd = disk_pdf * v.cos(dir) * super::media::transmittance(v.tau_in) * v.sigma_t;
     } else if v.is_infinite() {
         v.tau_in = sur.depth_to_infinity(prev.p, dir);
-        v.pdf_fwd = v.density_from(walk.pdf_dir, prev.p, v.tau_in);
+        v.pdf_fwd = v.density_from(pdf_dir, prev.p, v.tau_in);
     } else {
         v.tau_in = sur.depth(prev.p, v.p);
-        v.pdf_fwd = v.density_from(walk.pdf_dir, prev.p, v.tau_in);
+        v.pdf_fwd = v.density_from(pdf_dir, prev.p, v.tau_in);
     }
+}
+
+/// The solid-angle density with which scattering vertex `v`, arriving from
+/// `next_dir` (its successor), samples the direction back to its predecessor.
+pub(super) fn reverse_pdf(v: &Vertex, next_dir: Vec3) -> f32 {
+    v.pdf_dir(next_dir, v.w_prev)
 }
 
 /// Samples the direction leaving the last vertex of `path`, updates the
@@ -310,9 +325,9 @@ fn scatter(scene: &Scene, walk: &mut Walk, path: &mut [Vertex], sampler: &mut Sa
     }
     walk.beta *= weight;
     // The previous vertex as sampled from this one, arriving from the new direction.
-    let rev = v.pdf_dir(dir, v.w_prev);
+    let rev = reverse_pdf(&v, dir);
     let prev = &mut path[n - 2];
-    prev.pdf_rev = reverse_density(scene, prev, rev, &v);
+    prev.pdf_rev = reverse_density(scene, prev, rev, v.p, v.tau_in);
     walk.from_infinity = None;
     walk.pdf_dir = pdf;
     let origin = if v.ng == Vec3::ZERO {
@@ -324,9 +339,16 @@ fn scatter(scene: &Scene, walk: &mut Walk, path: &mut [Vertex], sampler: &mut Sa
     roulette(scene, walk, n - 1, sampler)
 }
 
-/// Density of `prev` sampled from `v` with solid-angle density `pdf_sa`:
-/// zero for lights no path can hit (points, spots, a delta sun).
-pub(super) fn reverse_density(scene: &Scene, prev: &Vertex, pdf_sa: f32, v: &Vertex) -> f32 {
+/// Density of `prev` sampled from point `from` with solid-angle density
+/// `pdf_sa` over surrogate depth `tau`: zero for the lens and for lights no
+/// path can hit (points, spots, a delta sun).
+pub(super) fn reverse_density(
+    scene: &Scene,
+    prev: &Vertex,
+    pdf_sa: f32,
+    from: Vec3,
+    tau: f32,
+) -> f32 {
     match prev.kind {
         Kind::Light { light } | Kind::Infinite { light, .. } => {
             let l = &scene.lights[light as usize];
@@ -337,7 +359,7 @@ pub(super) fn reverse_density(scene: &Scene, prev: &Vertex, pdf_sa: f32, v: &Ver
         Kind::Camera => return 0.0,
         _ => {}
     }
-    prev.density_from(pdf_sa, v.p, v.tau_in)
+    prev.density_from(pdf_sa, from, tau)
 }
 
 /// Russian roulette past `rr_depth` scattering events, as the path tracer
