@@ -9,12 +9,12 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
 
-use brume::color::Rgb;
 use brume::integrator::tracking::{
     delta_tracking_transmittance, medium_transmittance, ratio_tracking, residual_ratio_tracking,
     sample_free_flight, TransmittanceEstimator,
 };
 use brume::integrator::Scene;
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Ray, Vec3};
 use brume::medium::{
     ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,

@@ -8,8 +8,8 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use brume::color::Rgb;
 use brume::integrator::tracking::{ratio_tracking, sample_free_flight, Tracker};
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Ray, Vec3};
 use brume::medium::{
     GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,

@@ -3,8 +3,8 @@
 //!
 //! `cargo run --release --example aov_sheet -- render.exr sheet.png`
 
-use brume::image_io::{read_exr_channels, write_png_srgb8, NamedChannel};
-use brume::tonemap::Tonemap;
+use brume::film::image_io::{read_exr_channels, write_png_srgb8, NamedChannel};
+use brume::film::tonemap::Tonemap;
 
 /// One panel: three display values in [0, 1] per pixel, from the layer's channels.
 fn panel(
@@ -25,7 +25,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let (input, output) = (&args[1], &args[2]);
     let (w, h, channels) = read_exr_channels(input.as_ref()).expect("read EXR");
-    let srgb = |v: f32| brume::color::linear_to_srgb(Tonemap::Aces.apply(v));
+    let srgb = |v: f32| brume::math::color::linear_to_srgb(Tonemap::Aces.apply(v));
     let depth = channels
         .iter()
         .find(|(n, _)| n == "depth.Z")
@@ -52,7 +52,7 @@ fn main() {
         ["normal.X", "normal.Y", "normal.Z"],
         |n| (0.5 * n + 0.5).clamp(0.0, 1.0),
     ));
-    let linear = brume::color::linear_to_srgb;
+    let linear = brume::math::color::linear_to_srgb;
     panels.extend(panel(
         &channels,
         ["albedo.R", "albedo.G", "albedo.B"],

@@ -4,8 +4,8 @@
 //! The panels run left to right, then top to bottom, tone-mapped like `brume
 //! render --png` with its default (ACES, exposure 0).
 
-use brume::image_io::{read_exr, write_png_srgb8};
-use brume::tonemap::Tonemap;
+use brume::film::image_io::{read_exr, write_png_srgb8};
+use brume::film::tonemap::Tonemap;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -50,7 +50,7 @@ fn main() {
     let sheet_w = columns * (w + gap) - gap;
     let sheet_h = rows * (h + gap) - gap;
     let mut bytes = vec![255u8; sheet_w * sheet_h * 3];
-    let srgb = |v: f32| brume::color::linear_to_srgb(Tonemap::Aces.apply(v));
+    let srgb = |v: f32| brume::math::color::linear_to_srgb(Tonemap::Aces.apply(v));
     for (k, (_, _, pixels)) in panels.iter().enumerate() {
         let (x0, y0) = ((k % columns) * (w + gap), (k / columns) * (h + gap));
         for y in 0..h {

@@ -3,13 +3,13 @@
 //! Run: `cargo run --release --example sky_map [OUT.exr]`.
 //!
 //! The sky is made here, not photographed: a lat-long map (brume's
-//! convention, see `brume::envmap`) holding a blue gradient from a pale
+//! convention, see `brume::light::envmap`) holding a blue gradient from a pale
 //! horizon to a deep zenith, a bright aureole around the sun's direction
 //! (the sun disk itself stays a separate `sun` light in the scenes) and a
 //! dim, warm ground below the horizon with a soft transition.
 
-use brume::color::Rgb;
-use brume::image_io::{write_exr, Image};
+use brume::film::image_io::{write_exr, Image};
+use brume::math::color::Rgb;
 use brume::math::Vec3;
 use std::f32::consts::PI;
 use std::path::PathBuf;

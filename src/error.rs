@@ -64,17 +64,10 @@ impl Error {
 /// folder, not a regular file (a FIFO or device such as /dev/zero, which
 /// would block or never end) or larger than `max_bytes`.
 pub fn input_file_problem(path: &std::path::Path, max_bytes: u64) -> Option<String> {
-    let meta = match std::fs::metadata(path) {
+    let meta = match regular_file(path) {
         Ok(m) => m,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Some("no such file".into()),
-        Err(e) => return Some(e.to_string()),
+        Err(problem) => return Some(problem),
     };
-    if meta.is_dir() {
-        return Some("is a directory, not a file".into());
-    }
-    if !meta.is_file() {
-        return Some("is not a regular file (a FIFO, socket or device)".into());
-    }
     if meta.len() > max_bytes {
         return Some(format!(
             "is {:.1} MB, more than the {:.0} MB brume reads for this kind of file",
@@ -83,6 +76,48 @@ pub fn input_file_problem(path: &std::path::Path, max_bytes: u64) -> Option<Stri
         ));
     }
     None
+}
+
+/// The one check every reader of a file makes before opening it: the path
+/// (after symbolic links) is an existing regular file. Only `stat` is used,
+/// so a FIFO (whose `open` would block until a writer comes), a device or a
+/// socket is refused without ever being opened. The error says what the path is.
+pub fn regular_file(path: &std::path::Path) -> std::result::Result<std::fs::Metadata, String> {
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err("no such file".into()),
+        Err(e) => return Err(e.to_string()),
+    };
+    if meta.is_dir() {
+        return Err("is a directory, not a file".into());
+    }
+    if !meta.is_file() {
+        return Err(format!(
+            "is not a regular file ({}); brume reads only regular files",
+            file_kind(&meta)
+        ));
+    }
+    Ok(meta)
+}
+
+/// What a non-regular file is, in words.
+fn file_kind(meta: &std::fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = meta.file_type();
+        if t.is_fifo() {
+            return "a FIFO";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+        if t.is_char_device() || t.is_block_device() {
+            return "a device";
+        }
+    }
+    let _ = meta;
+    "a FIFO, socket or device"
 }
 
 /// Result with brume's error.

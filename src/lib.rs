@@ -8,29 +8,17 @@
 
 pub mod airlight;
 pub mod camera;
-pub mod checkpoint;
-pub mod color;
-pub mod compare;
-pub mod denoise;
-pub mod display;
-pub mod envmap;
 pub mod error;
 pub mod film;
 pub mod geometry;
-pub mod image_io;
 pub mod integrator;
 pub mod light;
 pub mod material;
 pub mod math;
 pub mod medium;
-pub mod merge;
 pub mod render;
 pub mod sampling;
 pub mod scene;
-pub mod scene_hash;
-pub mod split;
-pub mod texture;
-pub mod tonemap;
 pub mod volume;
 
 /// The test suite's one k (tests/common/k_sigma.rs), shared with the unit tests.

@@ -10,8 +10,20 @@
 
 mod common;
 
-use brume::airlight::{koschmieder, run, AirlightMode, AirlightOptions};
+use brume::airlight::{koschmieder, run, AirlightMode, AirlightOptions, AirlightReport};
 use common::assert_within;
+
+/// The fit used enough targets, and its σt lies within its own standard error (the one k) of `sigma`.
+fn assert_fits_the_true_extinction(report: &AirlightReport, sigma: f64) {
+    assert!(report.fit_rows >= 4, "{}", report.table);
+    assert_within(
+        report.sigma_t_fit,
+        report.sigma_t_fit_std_error,
+        sigma,
+        1,
+        &format!("fitted σt vs true\n{}", report.table),
+    );
+}
 
 #[test]
 fn exact_airlight_measurements_follow_koschmieder() {
@@ -59,14 +71,7 @@ fn exact_airlight_measurements_follow_koschmieder() {
             assert_within(got, se, want, checks, &what);
         }
     }
-    assert!(report.fit_rows >= 4, "{}", report.table);
-    assert_within(
-        report.sigma_t_fit,
-        report.sigma_t_fit_std_error,
-        sigma,
-        1,
-        &format!("fitted σt vs true\n{}", report.table),
-    );
+    assert_fits_the_true_extinction(&report, sigma);
     for name in [
         "airlight.exr",
         "airlight.png",
@@ -162,12 +167,45 @@ fn single_scattering_airlight_fits_the_true_extinction() {
         1,
         &format!("L_air\n{}", report.table),
     );
-    assert!(report.fit_rows >= 4, "{}", report.table);
-    assert_within(
-        report.sigma_t_fit,
-        report.sigma_t_fit_std_error,
-        sigma,
-        1,
-        &format!("fitted σt vs true\n{}", report.table),
+    assert_fits_the_true_extinction(&report, sigma);
+}
+
+/// `--out` is checked by the output-safety rule before rendering: an
+/// existing file that is not a folder, an output that is a folder, and two
+/// outputs that are one file are refused with exit code 2, and nothing is
+/// written (the user's file stays as it was).
+#[test]
+fn airlight_refuses_unsafe_outputs_before_rendering() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("notes.txt"), "mine").unwrap();
+    std::fs::create_dir_all(d.join("folder_output/airlight.toml")).unwrap();
+    std::fs::create_dir(d.join("linked")).unwrap();
+    std::os::unix::fs::symlink("airlight.csv", d.join("linked/airlight.png")).unwrap();
+    for (out, needle) in [
+        ("notes.txt", "notes.txt exists and is not a folder"),
+        ("folder_output", "airlight.toml: is a directory"),
+        ("linked", "is the same file as --out"),
+    ] {
+        let output = assert_cmd::Command::cargo_bin("brume")
+            .unwrap()
+            .current_dir(d)
+            .args(["airlight", "--width", "64", "--spp", "1", "--out", out])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{out}: {stderr}");
+        assert!(
+            stderr.starts_with("error: invalid argument --out: ") && stderr.contains(needle),
+            "{out}: {stderr}"
+        );
+        assert!(
+            !d.join(out).join("airlight.exr").exists(),
+            "{out}: rendered"
+        );
+    }
+    assert_eq!(
+        std::fs::read_to_string(d.join("notes.txt")).unwrap(),
+        "mine"
     );
 }

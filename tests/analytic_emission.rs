@@ -18,43 +18,22 @@ fn koschmieder_scene(
     d: f64,
     quad: bool,
 ) -> String {
-    let background = if quad {
-        format!(
-            r#"
-            [[shape]]
-            type = "quad"
-            center = [0.0, 0.0, -1.0]
-            normal = [0.0, 0.0, 1.0]
-            size = [100.0, 100.0]
-            emission = {}
-            material = {{ type = "diffuse", albedo = 0.0 }}
-            "#,
-            toml3(l_bg)
-        )
+    let scene = SceneText::view([0.0, 0.0, 10.0], [0.0; 3]).integrator("max_depth = 16");
+    let scene = if quad {
+        scene
+            .quad([0.0, 0.0, -1.0], [0.0, 0.0, 1.0], [100.0, 100.0])
+            .with(&format!(
+                "emission = {l_bg:?}\nmaterial = {{ type = \"diffuse\", albedo = 0.0 }}"
+            ))
     } else {
-        format!(
-            "[[light]]\ntype = \"environment\"\nradiance = {}\n",
-            toml3(l_bg)
-        )
+        scene.environment(l_bg)
     };
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 10.0]
-        look_at = [0.0, 0.0, 0.0]
-        [integrator]
-        max_depth = 16
-        {background}
-        [[medium]]
-        type = "homogeneous"
-        sigma_a = {}
-        sigma_s = 0.0
-        emission = {}
-        bounds = {{ type = "box", min = [-20.0, -20.0, 0.0], max = [20.0, 20.0, {d:?}] }}
-        "#,
-        toml3(sigma_a),
-        toml3(le),
-    )
+    scene
+        .medium(&format!(
+            "type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nsigma_s = 0.0\nemission = {le:?}\n\
+             bounds = {{ type = \"box\", min = [-20.0, -20.0, 0.0], max = [20.0, 20.0, {d:?}] }}"
+        ))
+        .build()
 }
 
 /// σa, Le, L_bg, slab thickness d, view angle θ from the slab normal (degrees).
@@ -108,21 +87,12 @@ fn emission_absorption_slab_koschmieder() {
 /// (Regression: global media were skipped along escaping rays, giving 0.)
 #[test]
 fn emission_absorption_to_infinity() {
-    let scene = scene_from_str(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 5.0]
-        look_at = [0.0, 0.0, 0.0]
-        [[light]]
-        type = "environment"
-        radiance = 7.0
-        [[medium]]
-        type = "homogeneous"
-        sigma_a = [0.2, 0.5, 0.8]
-        emission = [1.0, 2.0, 3.0]
-        global = true
-        "#,
-    );
+    let text = SceneText::view([0.0, 0.0, 5.0], [0.0; 3])
+        .environment(7.0)
+        .medium(
+            "type = \"homogeneous\"\nsigma_a = [0.2, 0.5, 0.8]\nemission = [1.0, 2.0, 3.0]\nglobal = true",
+        );
+    let scene = scene_from_str(&text.build());
     let ray = Ray::new(Vec3::ZERO, Vec3::new(0.0, 0.6, -0.8));
     let est = estimate_li(&scene, ray, N, 30);
     assert_estimate(
@@ -150,35 +120,17 @@ fn lit_ground_through_an_absorber() {
         .into_iter()
         .enumerate()
     {
-        let scene = scene_from_str(&format!(
-            r#"
-            [camera]
-            position = [0.0, 2.0, 5.0]
-            look_at = [0.0, 0.0, 0.0]
-            [integrator]
-            max_depth = {max_depth}
-            [[light]]
-            type = "point"
-            position = [{}, {}, {}]
-            intensity = {}
-            [[shape]]
-            type = "quad"
-            center = [0.0, 0.0, 0.0]
-            normal = [0.0, 1.0, 0.0]
-            size = [50.0, 50.0]
-            material = {{ type = "diffuse", albedo = {} }}
-            [[medium]]
-            type = "homogeneous"
-            sigma_a = {}
-            global = true
-            "#,
-            light.x,
-            light.y,
-            light.z,
-            toml3(intensity),
-            toml3(rho),
-            toml3(sigma_a),
-        ));
+        let text = SceneText::view([0.0, 2.0, 5.0], [0.0; 3])
+            .integrator(&format!("max_depth = {max_depth}"))
+            .point_light(light.to_array(), intensity)
+            .quad([0.0; 3], [0.0, 1.0, 0.0], [50.0, 50.0])
+            .with(&format!(
+                "material = {{ type = \"diffuse\", albedo = {rho:?} }}"
+            ))
+            .medium(&format!(
+                "type = \"homogeneous\"\nsigma_a = {sigma_a:?}\nglobal = true"
+            ));
+        let scene = scene_from_str(&text.build());
         let to_light = (light - ground).as_dvec3();
         let r = to_light.length();
         let cos_theta = to_light.y / r;

@@ -54,32 +54,18 @@ impl Slab {
         } else {
             ""
         };
-        format!(
-            r#"
-            [camera]
-            position = [0.0, 5.0, 5.0]
-            look_at = [0.0, 0.0, 0.0]
-            [integrator]
-            max_depth = 1000
-            {depth}
-            [[light]]
-            type = "sun"
-            direction = {}
-            irradiance = {}
-            angular_radius = 0.0
-            {ground}
-            [[medium]]
-            type = "homogeneous"
-            sigma_t = {}
-            albedo = {}
-            phase = {phase}
-            bounds = {{ type = "box", min = [-200.0, 0.0, -200.0], max = [200.0, 1.0, 200.0] }}
-            "#,
-            toml3([-s[0], -s[1], -s[2]]),
-            toml3(IRRADIANCE),
-            toml3(self.sigma_t),
-            toml3(self.albedo),
-        )
+        SceneText::view([0.0, 5.0, 5.0], [0.0; 3])
+            .integrator("max_depth = 1000")
+            .with(&depth)
+            .sun([-s[0], -s[1], -s[2]], IRRADIANCE)
+            .with("angular_radius = 0.0")
+            .raw(ground)
+            .medium(&format!(
+                "type = \"homogeneous\"\nsigma_t = {:?}\nalbedo = {:?}\nphase = {phase}\n\
+                 bounds = {{ type = \"box\", min = [-200.0, 0.0, -200.0], max = [200.0, 1.0, 200.0] }}",
+                self.sigma_t, self.albedo
+            ))
+            .build()
     }
 
     /// The camera ray: from above the slab, looking down at the view zenith angle.
@@ -220,28 +206,17 @@ impl Beam {
                 toml3(self.intensity)
             ),
         };
-        format!(
-            r#"
-            [camera]
-            position = [0.0, 0.0, 5.0]
-            look_at = [0.0, 0.0, 0.0]
-            [integrator]
-            max_scatter_depth = 1
-            transmittance = "{estimator}"
-            equiangular = {equiangular}
-            [[light]]
-            {light}
-            [[medium]]
-            type = "homogeneous"
-            sigma_a = {}
-            sigma_s = {}
-            phase = {{ type = "hg", g = {:?} }}
-            global = true
-            "#,
-            toml3(self.sigma_a),
-            toml3(self.sigma_s),
-            self.g,
-        )
+        SceneText::view([0.0, 0.0, 5.0], [0.0; 3])
+            .integrator(&format!(
+                "max_scatter_depth = 1\ntransmittance = \"{estimator}\"\nequiangular = {equiangular}"
+            ))
+            .light(&light)
+            .medium(&format!(
+                "type = \"homogeneous\"\nsigma_a = {:?}\nsigma_s = {:?}\n\
+                 phase = {{ type = \"hg\", g = {:?} }}\nglobal = true",
+                self.sigma_a, self.sigma_s, self.g
+            ))
+            .build()
     }
 
     /// Spot falloff at cos of the angle off the axis (smoothstep between the cones).

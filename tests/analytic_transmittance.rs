@@ -8,11 +8,11 @@
 mod analytic_support;
 
 use analytic_support::*;
-use brume::color::Rgb;
 use brume::integrator::tracking::{
-    medium_transmittance, ratio_tracking_scaled_majorant, sample_free_flight, FreeFlight, Tracker,
+    medium_transmittance, ratio_tracking_scaled_majorant, FreeFlight, Tracker,
     TransmittanceEstimator,
 };
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Bounds3, Quat, Ray, Vec3};
 use brume::medium::{HomogeneousMedium, Medium, PhaseFunction, Region};
 
@@ -317,15 +317,7 @@ fn unbounded_segments_are_tracked() {
     let media = [medium];
     for i in 0..1000 {
         let mut s = brume::sampling::Sampler::new(402, 0, 0, i);
-        let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-        let event = sample_free_flight(
-            &media,
-            &ray,
-            f32::INFINITY,
-            &mut throughput,
-            &mut radiance,
-            &mut s,
-        );
+        let (event, _, _) = free_flight(&media, &ray, f32::INFINITY, &mut s);
         assert!(
             !matches!(event, FreeFlight::Passed),
             "a path cannot pass through an infinite medium"
@@ -358,16 +350,8 @@ fn unbounded_segments_with_transparent_channels_end() {
     }
     let media = [medium];
     let est = estimate(1000, 411, |s| {
-        let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-        match sample_free_flight(
-            &media,
-            &ray,
-            f32::INFINITY,
-            &mut throughput,
-            &mut radiance,
-            s,
-        ) {
-            FreeFlight::Passed => throughput,
+        match free_flight(&media, &ray, f32::INFINITY, s) {
+            (FreeFlight::Passed, throughput, _) => throughput,
             _ => Rgb::BLACK,
         }
     });

@@ -3,7 +3,7 @@
 
 mod analytic_support;
 
-use analytic_support::{k_sigma, scene_from_str};
+use analytic_support::{k_sigma, scene_from_str, SceneText};
 use brume::integrator::aov::{aov_sample, Aov};
 use brume::math::Vec3;
 use brume::render::render_aovs;
@@ -15,24 +15,12 @@ fn channel<'a>(layers: &'a [(String, Vec<f32>)], name: &str) -> &'a [f32] {
 
 /// A camera on the +z axis at distance `d` from a large diffuse plane z = 0 facing it.
 fn plane_scene(d: f32) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.3, -0.2, {d}]
-        look_at = [0.3, -0.2, 0.0]
-        fov = 60.0
-        resolution = [12, 8]
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[shape]]
-        type = "quad"
-        center = [0.0, 0.0, 0.0]
-        normal = [0.0, 0.0, 1.0]
-        size = [100.0, 100.0]
-        material = {{ type = "diffuse", albedo = [0.2, 0.4, 0.6] }}
-        "#
-    )
+    SceneText::camera([0.3, -0.2, d], [0.3, -0.2, 0.0], [12, 8])
+        .fov(60.0)
+        .environment(1.0)
+        .quad([0.0; 3], [0.0, 0.0, 1.0], [100.0, 100.0])
+        .with("material = { type = \"diffuse\", albedo = [0.2, 0.4, 0.6] }")
+        .build()
 }
 
 /// Depth is camera-space: every pixel of a plane facing the camera at 3.5 m
@@ -62,22 +50,11 @@ fn a_plane_at_a_known_distance_has_exact_depth_normal_and_albedo() {
 /// the beauty's own — meets the sphere; escaping samples have normal 0.
 #[test]
 fn sphere_normals_are_the_analytic_normals_of_each_camera_ray() {
-    let scene = scene_from_str(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 5.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 30.0
-        resolution = [16, 16]
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[shape]]
-        type = "sphere"
-        center = [0.2, 0.1, 0.0]
-        radius = 1.0
-        "#,
-    );
+    let text = SceneText::camera([0.0, 0.0, 5.0], [0.0; 3], [16, 16])
+        .fov(30.0)
+        .environment(1.0)
+        .sphere([0.2, 0.1, 0.0], 1.0);
+    let scene = scene_from_str(&text.build());
     let c = Vec3::new(0.2, 0.1, 0.0);
     let (mut hits, mut misses) = (0, 0);
     for y in 0..16 {
@@ -117,25 +94,16 @@ fn sphere_normals_are_the_analytic_normals_of_each_camera_ray() {
 #[test]
 fn alpha_and_volume_albedo_of_a_homogeneous_slab_match_their_closed_forms() {
     let (sigma_t, albedo, thickness) = (0.7f64, 0.8f64, 1.5f64);
-    let scene = scene_from_str(&format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 10.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 2.0
-        resolution = [6, 4]
-        [integrator]
-        transmittance = "delta"
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[medium]]
-        type = "homogeneous"
-        sigma_t = {sigma_t}
-        albedo = {albedo}
-        bounds = {{ type = "box", min = [-50.0, -50.0, -{thickness}], max = [50.0, 50.0, 0.0] }}
-        "#
-    ));
+    let text = SceneText::camera([0.0, 0.0, 10.0], [0.0; 3], [6, 4])
+        .fov(2.0)
+        .integrator("transmittance = \"delta\"")
+        .environment(1.0)
+        .medium(&format!(
+            "type = \"homogeneous\"\nsigma_t = {sigma_t:?}\nalbedo = {albedo:?}\n\
+             bounds = {{ type = \"box\", min = [-50.0, -50.0, {:?}], max = [50.0, 50.0, 0.0] }}",
+            -thickness
+        ));
+    let scene = scene_from_str(&text.build());
     let n = 4000u32;
     let layers = render_aovs(&scene, &[Aov::Alpha, Aov::Albedo, Aov::Normal], n, None);
     // 24 pixels × 3 checks, Šidák-corrected as one family.
@@ -198,7 +166,7 @@ fn aov_layers_round_trip_and_leave_the_beauty_unchanged() {
             ])
             .assert()
             .success();
-        brume::image_io::read_exr_channels(&dir.path().join(out)).unwrap()
+        brume::film::image_io::read_exr_channels(&dir.path().join(out)).unwrap()
     };
     let (w, h, plain) = render("none", "plain.exr");
     let (w2, h2, with) = render("alpha,depth,normal,albedo,transmittance", "aovs.exr");
@@ -285,23 +253,14 @@ fn a_plane_seen_from_behind_has_the_normal_toward_the_camera() {
 /// the view axis, so depth / cos α averages 1/σt over a corner pixel's samples.
 #[test]
 fn a_scattering_point_has_the_camera_space_depth_of_its_distance() {
-    let scene = scene_from_str(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 0.0]
-        look_at = [0.0, 0.0, -1.0]
-        fov = 70.0
-        resolution = [4, 4]
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[medium]]
-        type = "homogeneous"
-        sigma_a = 0.0
-        sigma_s = 0.5
-        bounds = { type = "box", min = [-1000.0, -1000.0, -1000.0], max = [1000.0, 1000.0, 1000.0] }
-        "#,
-    );
+    let text = SceneText::camera([0.0; 3], [0.0, 0.0, -1.0], [4, 4])
+        .fov(70.0)
+        .environment(1.0)
+        .medium(
+            "type = \"homogeneous\"\nsigma_a = 0.0\nsigma_s = 0.5\n\
+             bounds = { type = \"box\", min = [-1000.0, -1000.0, -1000.0], max = [1000.0, 1000.0, 1000.0] }",
+        );
+    let scene = scene_from_str(&text.build());
     let forward = Vec3::new(0.0, 0.0, -1.0);
     let n = 8192;
     let (mut sum, mut sum2) = (0.0f64, 0.0f64);

@@ -1,7 +1,10 @@
 //! Bad scene input: every case exits with code 2, prints one error line that
 //! names the file and the culprit, never panics, and leaves outputs alone.
 
-use assert_cmd::Command;
+mod common;
+
+use common::cli::{assert_scene_refused, brume};
+use std::ffi::OsStr;
 use std::path::Path;
 
 const CAMERA: &str =
@@ -62,47 +65,11 @@ fn every_bad_scene_gives_one_clear_error_line_and_exit_code_2() {
     let dir = tempfile::tempdir().unwrap();
     let cases = cases();
     assert!(cases.len() >= 30);
+    let out_png = dir.path().join("out.png");
+    let png = [OsStr::new("--png"), out_png.as_os_str()];
     for (i, (name, text, culprit)) in cases.iter().enumerate() {
-        let scene = dir.path().join(format!("case{i}.toml"));
-        std::fs::write(&scene, text).unwrap();
-        let out_exr = dir.path().join("out.exr");
-        let out_png = dir.path().join("out.png");
-        std::fs::write(&out_exr, b"precious").unwrap();
-        let output = Command::cargo_bin("brume")
-            .unwrap()
-            .args(["render", "--quiet"])
-            .arg(&scene)
-            .arg("--out")
-            .arg(&out_exr)
-            .arg("--png")
-            .arg(&out_png)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(
-            output.status.code(),
-            Some(2),
-            "{name}: exit code, stderr: {stderr}"
-        );
-        assert!(!stderr.contains("panicked"), "{name}: panicked: {stderr}");
-        assert_eq!(
-            stderr.trim_end().lines().count(),
-            1,
-            "{name}: one line expected: {stderr}"
-        );
-        assert!(
-            stderr.contains(&format!("case{i}.toml")),
-            "{name}: file not named: {stderr}"
-        );
-        assert!(
-            stderr.contains(culprit),
-            "{name}: '{culprit}' not named: {stderr}"
-        );
-        assert_eq!(
-            std::fs::read(&out_exr).unwrap(),
-            b"precious",
-            "{name}: output touched"
-        );
+        let file = format!("case{i}.toml");
+        assert_scene_refused(dir.path(), &file, text, &png, &[*culprit], name);
         assert!(!out_png.exists(), "{name}: png written");
     }
 }
@@ -121,8 +88,7 @@ fn tiny_scene(dir: &Path) -> std::path::PathBuf {
 fn unwritable_output_is_refused_before_rendering() {
     let dir = tempfile::tempdir().unwrap();
     let scene = tiny_scene(dir.path());
-    let output = Command::cargo_bin("brume")
-        .unwrap()
+    let output = brume()
         .args(["render", "--quiet"])
         .arg(&scene)
         .arg("--out")
@@ -144,8 +110,7 @@ fn bad_command_line_values_are_refused() {
         ("--time", "-1"),
         ("--time", "nan"),
     ] {
-        let output = Command::cargo_bin("brume")
-            .unwrap()
+        let output = brume()
             .current_dir(dir.path())
             .args(["render", "--quiet"])
             .arg(&scene)
@@ -162,8 +127,7 @@ fn bad_command_line_values_are_refused() {
 fn a_good_scene_renders_and_writes_both_files() {
     let dir = tempfile::tempdir().unwrap();
     let scene = tiny_scene(dir.path());
-    let output = Command::cargo_bin("brume")
-        .unwrap()
+    let output = brume()
         .current_dir(dir.path())
         .args(["render", "--quiet", "--spp", "2"])
         .arg(&scene)
@@ -174,14 +138,13 @@ fn a_good_scene_renders_and_writes_both_files() {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    let (w, h, pixels) = brume::image_io::read_exr(&dir.path().join("tiny.exr")).unwrap();
+    let (w, h, pixels) = brume::film::image_io::read_exr(&dir.path().join("tiny.exr")).unwrap();
     assert_eq!((w, h), (8, 8));
     assert!(pixels.iter().any(|p| p.max_channel() > 0.0));
     assert!(dir.path().join("tiny.png").exists());
 
     // `--debug-pixel` replays exactly the samples the render took for that pixel.
-    let output = Command::cargo_bin("brume")
-        .unwrap()
+    let output = brume()
         .current_dir(dir.path())
         .args(["render", "--spp", "2", "--debug-pixel", "3,4"])
         .arg(&scene)

@@ -3,36 +3,22 @@
 mod common;
 
 use brume::render::{render, RenderOptions};
+use common::SceneText;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
+/// A sphere on a ground quad under a sky, the camera's table completed by `camera_extra`.
 fn scene_text(camera_extra: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 1.0, 4.0]
-        look_at = [0.0, 0.5, 0.0]
-        fov = 40.0
-        resolution = [16, 12]
-        {camera_extra}
-        [[light]]
-        type = "sky"
-        zenith = [0.3, 0.5, 1.0]
-        horizon = 1.0
-        ground = 0.2
-        [[shape]]
-        type = "sphere"
-        center = [0.0, 0.5, 0.0]
-        radius = 0.5
-        [[shape]]
-        type = "quad"
-        normal = [0.0, 1.0, 0.0]
-        size = [6.0, 6.0]
-        "#
-    )
+    SceneText::camera([0.0, 1.0, 4.0], [0.0, 0.5, 0.0], [16, 12])
+        .fov(40.0)
+        .with(camera_extra)
+        .light("type = \"sky\"\nzenith = [0.3, 0.5, 1.0]\nhorizon = 1.0\nground = 0.2")
+        .sphere([0.0, 0.5, 0.0], 0.5)
+        .shape("type = \"quad\"\nnormal = [0.0, 1.0, 0.0]\nsize = [6.0, 6.0]")
+        .build()
 }
 
-fn pixels(camera_extra: &str) -> Vec<brume::color::Rgb> {
+fn pixels(camera_extra: &str) -> Vec<brume::math::color::Rgb> {
     let scene = common::scene_from_str(&scene_text(camera_extra));
     let options = RenderOptions {
         spp: 4,

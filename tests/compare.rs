@@ -1,7 +1,7 @@
 //! `brume compare` on images whose differences are known exactly.
 
-use brume::color::Rgb;
-use brume::image_io::{write_exr, Image};
+use brume::film::image_io::{write_exr, Image};
+use brume::math::color::Rgb;
 use std::path::Path;
 
 fn write(path: &Path, width: usize, pixels: Vec<Rgb>) {

@@ -2,7 +2,7 @@
 //! the denoised layer is closer to a converged reference than the noisy beauty.
 #![cfg(feature = "denoise")]
 
-use brume::image_io::read_exr_channels;
+use brume::film::image_io::read_exr_channels;
 
 /// A lit sphere on a plane, 64×48 pixels.
 const SCENE: &str = r#"
@@ -90,4 +90,121 @@ fn the_denoised_layer_is_closer_to_the_reference_than_the_beauty() {
     let after = rmse(&rgb(&noisy, "denoised."), &truth);
     eprintln!("rmse against 1024 spp: noisy 4 spp {before:.5}, denoised {after:.5}");
     assert!(after < 0.5 * before, "denoised {after} vs noisy {before}");
+}
+
+/// Runs brume in `dir` with `args`; returns (exit code, stderr).
+fn brume(dir: &std::path::Path, args: &[&str]) -> (Option<i32>, String) {
+    let out = assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+/// Pieces rendered with `--denoise` hold the albedo and normal (and no
+/// denoised layer: a piece is not the image); `brume merge --denoise`
+/// denoises the merged beauty with the merged guides, as close to the
+/// reference as the single render's denoised layer; pieces without the
+/// guides are refused by name.
+#[test]
+fn pieces_are_denoised_after_the_merge() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("ball.toml"), SCENE).unwrap();
+    let exr = |name: &str| read_exr_channels(&dir.path().join(name)).unwrap().2;
+    for (range, out) in [("0..2", "a.exr"), ("2..4", "b.exr")] {
+        let args = [
+            "render",
+            "ball.toml",
+            "--spp",
+            "4",
+            "--samples",
+            range,
+            "--denoise",
+            "--out",
+            out,
+        ];
+        let (code, stderr) = brume(dir.path(), &args);
+        assert_eq!(code, Some(0), "{stderr}");
+        assert!(stderr.contains("brume merge --denoise"), "{stderr}");
+        let names: Vec<String> = exr(out).into_iter().map(|(n, _)| n).collect();
+        assert!(names.contains(&"albedo.R".into()) && names.contains(&"normal.Z".into()));
+        assert!(
+            !names.iter().any(|n| n.starts_with("denoised.")),
+            "{names:?}"
+        );
+    }
+    let (code, stderr) = brume(
+        dir.path(),
+        &["merge", "a.exr", "b.exr", "--denoise", "-o", "m.exr"],
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let (code, _) = brume(
+        dir.path(),
+        &[
+            "render",
+            "ball.toml",
+            "--quiet",
+            "--spp",
+            "1024",
+            "--out",
+            "ref.exr",
+        ],
+    );
+    assert_eq!(code, Some(0));
+    let (code, _) = brume(
+        dir.path(),
+        &[
+            "render",
+            "ball.toml",
+            "--quiet",
+            "--spp",
+            "4",
+            "--denoise",
+            "--out",
+            "one.exr",
+        ],
+    );
+    assert_eq!(code, Some(0));
+    let truth = rgb(&exr("ref.exr"), "");
+    let merged = exr("m.exr");
+    let before = rmse(&rgb(&merged, ""), &truth);
+    let after = rmse(&rgb(&merged, "denoised."), &truth);
+    let single = rmse(&rgb(&exr("one.exr"), "denoised."), &truth);
+    eprintln!("rmse against 1024 spp: merged 4 spp {before:.5}, denoised after merge {after:.5}, single render denoised {single:.5}");
+    assert!(after < 0.5 * before, "denoised {after} vs noisy {before}");
+    // The merged beauty and guides are the single render's to f32 rounding: so is the result.
+    assert!((after - single).abs() < 0.1 * single, "{after} vs {single}");
+
+    for (range, out) in [("0..2", "p.exr"), ("2..4", "q.exr")] {
+        let (code, stderr) = brume(
+            dir.path(),
+            &[
+                "render",
+                "ball.toml",
+                "--spp",
+                "4",
+                "--samples",
+                range,
+                "--out",
+                out,
+            ],
+        );
+        assert_eq!(code, Some(0), "{stderr}");
+    }
+    let (code, stderr) = brume(
+        dir.path(),
+        &["merge", "p.exr", "q.exr", "--denoise", "-o", "n.exr"],
+    );
+    assert_eq!(code, Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("--denoise") && stderr.contains("albedo and normal"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("n.exr").exists());
 }

@@ -4,10 +4,11 @@
 mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
+use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate_li};
-use brume::color::Rgb;
-use brume::envmap::EnvMap;
-use brume::image_io::{write_exr, Image};
+use brume::film::image_io::{write_exr, Image};
+use brume::light::envmap::EnvMap;
+use brume::math::color::Rgb;
 use brume::math::{Quat, Ray, Vec3};
 use brume::sampling::chi2::{chi2_survival, sidak_alpha};
 use brume::sampling::quadrature::gauss_legendre;
@@ -119,25 +120,13 @@ fn map_sampling_follows_its_pdf() {
     }
 }
 
+/// A sphere of `material` under the light `light` (the keys of its table), in the furnace's view.
 fn sphere_scene(light: &str, material: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 35.0
-        resolution = [8, 8]
-        [integrator]
-        max_depth = 1000
-        rr_depth = 1000
-        [[light]]
-        {light}
-        [[shape]]
-        type = "sphere"
-        radius = 1.0
-        material = {material}
-        "#
-    )
+    SceneText::furnace_view(8)
+        .depths(1000, 1000)
+        .light(light)
+        .unit_sphere(material)
+        .build()
 }
 
 #[test]
@@ -237,7 +226,7 @@ fn bad_maps_name_the_key() {
     let corrupt = corrupt.display().to_string().replace('\\', "/");
     let file = Path::new("map.toml");
     for (light, needle) in [
-        ("file = \"missing.exr\"".to_string(), "not found"),
+        ("file = \"missing.exr\"".to_string(), "no such file"),
         (format!("file = \"{black}\""), "black everywhere"),
         (format!("file = \"{negative}\""), "negative"),
         (format!("file = \"{corrupt}\""), "cannot read"),

@@ -6,28 +6,18 @@ mod common;
 use brume::math::{Ray, Vec3};
 use common::*;
 
+/// A scattering sphere of medium lit by `light` (TOML) and a dim sky.
 fn scene_text(equiangular: bool, max_scatter: &str, light: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        [integrator]
-        max_depth = 1000
-        equiangular = {equiangular}
-        {max_scatter}
-        {light}
-        [[light]]
-        type = "environment"
-        radiance = 0.1
-        [[medium]]
-        type = "homogeneous"
-        sigma_a = 0.05
-        sigma_s = [0.2, 0.3, 0.4]
-        phase = {{ type = "hg", g = 0.5 }}
-        bounds = {{ type = "sphere", radius = 3.0 }}
-        "#
-    )
+    SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+        .integrator(&format!("max_depth = 1000\nequiangular = {equiangular}"))
+        .with(max_scatter)
+        .raw(light)
+        .environment(0.1)
+        .medium(
+            "type = \"homogeneous\"\nsigma_a = 0.05\nsigma_s = [0.2, 0.3, 0.4]\n\
+             phase = { type = \"hg\", g = 0.5 }\nbounds = { type = \"sphere\", radius = 3.0 }",
+        )
+        .build()
 }
 
 const POINT: &str = "[[light]]\ntype = \"point\"\nposition = [0.0, 0.3, 0.0]\nintensity = 1.0\n";

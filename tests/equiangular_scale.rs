@@ -8,33 +8,20 @@ mod common;
 use brume::math::{Ray, Vec3};
 use common::*;
 
+/// A point light in a global scattering medium, every length × `k`.
 fn scene_text(k: f64, equiangular: bool) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, {eye:?}]
-        look_at = [0.0, 0.0, 0.0]
-        [integrator]
-        max_depth = 8
-        max_scatter_depth = 1
-        equiangular = {equiangular}
-        [[light]]
-        type = "point"
-        position = [0.0, {y:?}, 0.0]
-        intensity = {i:?}
-        [[medium]]
-        type = "homogeneous"
-        sigma_a = {sa:?}
-        sigma_s = {ss:?}
-        phase = {{ type = "hg", g = 0.4 }}
-        global = true
-        "#,
-        eye = 4.0 * k,
-        y = 0.3 * k,
-        i = 2.0 * k * k,
-        sa = 0.05 / k,
-        ss = 0.2 / k,
-    )
+    SceneText::view([0.0, 0.0, 4.0 * k], [0.0; 3])
+        .integrator(&format!(
+            "max_depth = 8\nmax_scatter_depth = 1\nequiangular = {equiangular}"
+        ))
+        .point_light([0.0, 0.3 * k, 0.0], 2.0 * k * k)
+        .medium(&format!(
+            "type = \"homogeneous\"\nsigma_a = {:?}\nsigma_s = {:?}\n\
+             phase = {{ type = \"hg\", g = 0.4 }}\nglobal = true",
+            0.05 / k,
+            0.2 / k
+        ))
+        .build()
 }
 
 #[test]

@@ -7,19 +7,18 @@
 
 mod common;
 
-use brume::color::Rgb;
 use brume::integrator::tracking::{
-    medium_transmittance, sample_free_flight, take_thread_stats, FreeFlight,
-    MAX_TENTATIVE_COLLISIONS,
+    medium_transmittance, take_thread_stats, FreeFlight, MAX_TENTATIVE_COLLISIONS,
 };
 use brume::integrator::TransmittanceEstimator;
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Quat, Ray, Vec3};
 use brume::medium::{
     ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,
 };
 use brume::sampling::{mix64, Sampler};
 use brume::volume::{FloatGrid, GridTransform};
-use common::{assert_estimate, Accumulator, Estimate};
+use common::{assert_estimate, free_flight, Accumulator, Estimate};
 use glam::{DVec3, IVec3};
 use std::sync::Arc;
 
@@ -252,15 +251,7 @@ fn assert_flights_follow_the_optical_depth(
     let mut passed = Accumulator::default();
     for i in 0..20_000u64 {
         let mut sampler = Sampler::new(9, 8, 7, i);
-        let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-        let f = sample_free_flight(
-            std::slice::from_ref(m),
-            ray,
-            t_max,
-            &mut beta,
-            &mut radiance,
-            &mut sampler,
-        );
+        let (f, beta, _) = free_flight(std::slice::from_ref(m), ray, t_max, &mut sampler);
         let (t, weight) = match f {
             FreeFlight::Scatter { t, properties, .. } => {
                 // The lookups within a few f32 roundings of the point (steep
@@ -325,15 +316,7 @@ fn exact_free_flight_emission_matches_closed_form() {
         let mut acc = Accumulator::default();
         for i in 0..20_000u64 {
             let mut sampler = Sampler::new(3, 1, 4, i);
-            let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-            sample_free_flight(
-                std::slice::from_ref(&m),
-                &ray,
-                len,
-                &mut beta,
-                &mut radiance,
-                &mut sampler,
-            );
+            let (_, _, radiance) = free_flight(std::slice::from_ref(&m), &ray, len, &mut sampler);
             acc.add(radiance);
         }
         let expected = le * 0.3 * (1.0 - (-3.0f32 * len).exp());
@@ -357,9 +340,7 @@ fn auto_walks_exactly_only_in_dense_cells() {
         for (i, (ray, t_max)) in rays().iter().enumerate() {
             let mut sampler = Sampler::new(2, 2, 2, i as u64);
             medium_transmittance(&m, ray, *t_max, TransmittanceEstimator::Auto, &mut sampler);
-            let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-            let media = std::slice::from_ref(&m);
-            sample_free_flight(media, ray, *t_max, &mut beta, &mut radiance, &mut sampler);
+            free_flight(std::slice::from_ref(&m), ray, *t_max, &mut sampler);
         }
         take_thread_stats()
     };
@@ -381,20 +362,10 @@ fn dense_vdb_costs_about_what_the_homogeneous_medium_costs() {
     use brume::render::{render, RenderOptions};
     use std::sync::atomic::AtomicBool;
     let scene = |medium: &str| {
-        common::scene_from_str(&format!(
-            r#"
-            [camera]
-            position = [0.0, 1.0, 4.0]
-            look_at = [0.0, 0.5, 0.0]
-            resolution = [32, 24]
-            [[light]]
-            type = "point"
-            position = [0.0, 3.0, 2.0]
-            intensity = 20.0
-            [[medium]]
-            {medium}
-            "#
-        ))
+        let text = common::SceneText::camera([0.0, 1.0, 4.0], [0.0, 0.5, 0.0], [32, 24])
+            .point_light([0.0, 3.0, 2.0], 20.0)
+            .medium(medium);
+        common::scene_from_str(&text.build())
     };
     let vdb = scene(
         "type = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\ndensity_scale = 1e6\nalbedo = 1.0",
@@ -544,15 +515,8 @@ fn an_exact_walk_past_the_step_cap_is_ended() {
     let stats = take_thread_stats();
     assert_eq!(stats.voxel_steps, MAX_TENTATIVE_COLLISIONS as u64);
     assert_eq!(stats.capped_rays, 1);
-    let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-    let flight = sample_free_flight(
-        std::slice::from_ref(&m),
-        &ray,
-        f32::INFINITY,
-        &mut throughput,
-        &mut radiance,
-        &mut sampler,
-    );
+    let (flight, throughput, _) =
+        free_flight(std::slice::from_ref(&m), &ray, f32::INFINITY, &mut sampler);
     assert!(
         matches!(flight, FreeFlight::Absorbed) && throughput == Rgb::BLACK,
         "a capped free flight ends the path: {flight:?}, throughput {throughput:?}"

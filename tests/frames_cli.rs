@@ -1,7 +1,10 @@
 //! `brume render --frames`: frame patterns in VDB and output names, per-frame
 //! loading, missing frames (error, hold, repeat), and `--skip-existing`.
 
+mod common;
+
 use assert_cmd::cargo::CommandCargoExt;
+use common::SceneText;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -12,28 +15,16 @@ fn brume() -> Command {
 /// A scene over the animated test plume (`plume.####.vdb`), written into `dir`.
 fn scene(dir: &Path, animation: &str) -> PathBuf {
     let plume = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/anim/plume.####.vdb");
-    let text = format!(
-        r#"
-        [camera]
-        position = [0.0, 0.6, 2.5]
-        look_at = [0.0, 0.6, 0.0]
-        resolution = [6, 6]
-        shutter = [-0.25, 0.25]
-        [integrator]
-        spp = 2
-        [[light]]
-        type = "environment"
-        radiance = [0.5, 0.5, 0.5]
-        [[medium]]
-        type = "vdb"
-        file = "{}"
-        density_scale = 20.0
-        velocity_grid = "vel"
-        [animation]
-        {animation}
-        "#,
-        plume.display()
-    );
+    let text = SceneText::camera([0.0, 0.6, 2.5], [0.0, 0.6, 0.0], [6, 6])
+        .with("shutter = [-0.25, 0.25]")
+        .integrator("spp = 2")
+        .environment([0.5, 0.5, 0.5])
+        .medium(&format!(
+            "type = \"vdb\"\nfile = \"{}\"\ndensity_scale = 20.0\nvelocity_grid = \"vel\"",
+            plume.display()
+        ))
+        .table("[animation]", animation)
+        .build();
     let path = dir.join("anim.toml");
     std::fs::write(&path, text).unwrap();
     path
@@ -93,7 +84,7 @@ fn a_sequence_writes_one_image_per_frame_and_resumes() {
 }
 
 fn pixels(path: &Path) -> Vec<[u32; 3]> {
-    let (_, _, px) = brume::image_io::read_exr(path).unwrap();
+    let (_, _, px) = brume::film::image_io::read_exr(path).unwrap();
     px.iter()
         .map(|c| [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()])
         .collect()

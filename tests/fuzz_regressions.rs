@@ -2,8 +2,9 @@
 //! same code paths as the fuzz targets (fuzz/fuzz_targets/): each input may be
 //! refused with an error, none may panic.
 
-use brume::volume::VdbFile;
-use glam::{DVec3, IVec3, Vec3};
+#[path = "../fuzz/harness.rs"]
+mod harness;
+
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 
@@ -41,64 +42,19 @@ fn replay(inputs: &[PathBuf], body: impl Fn(&[u8])) {
     assert!(failures.is_empty(), "panicked on: {failures:#?}");
 }
 
-/// The `scene_parse` target: text → parse → build against an empty folder.
-fn scene_parse(data: &[u8]) {
-    let Ok(text) = std::str::from_utf8(data) else {
-        return;
-    };
-    let base = tempfile::tempdir().unwrap();
-    let file = base.path().join("fuzz.toml");
-    if let Ok(desc) = brume::scene::parse(text, &file) {
-        let _ = brume::scene::build(&desc, &file, base.path());
-    }
-}
-
-/// The `vdb_load` target: bytes → open → load every grid → lookups.
-fn vdb_load(data: &[u8]) {
-    let Ok(file) = VdbFile::from_bytes(Path::new("fuzz.vdb"), data.to_vec()) else {
-        return;
-    };
-    let _ = file.grids();
-    for name in file.grid_names() {
-        let Ok(grid) = file.load_float_grid(&name) else {
-            continue;
-        };
-        let _ = (grid.active_voxel_count(), grid.value_range());
-        let _ = (grid.sum_active_values(), grid.memory_bytes());
-        let _ = grid.blocks().count();
-        let (lo, hi) = grid
-            .index_bbox_active()
-            .unwrap_or((IVec3::ZERO, IVec3::ONE));
-        let mid = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
-        for p in [
-            lo.as_dvec3(),
-            hi.as_dvec3(),
-            mid,
-            mid + 0.37,
-            DVec3::splat(-1e9),
-        ] {
-            let _ = grid.trilinear_index_f64(p);
-            let _ = grid.trilinear_index(p.as_vec3());
-            let _ = grid.nearest_index(p);
-            let w = grid.transform().index_to_world(p);
-            let _ = grid.trilinear_world(w);
-            let _ = grid.transform().world_to_index(w);
-        }
-        let _ = grid.trilinear_index(Vec3::NAN);
-        let _ = (grid.value(lo), grid.is_active(hi), grid.value(IVec3::MAX));
-    }
-}
-
 #[test]
 fn scene_seeds_and_crash_reproducers_never_panic() {
     let files = inputs(&["fuzz/seeds/scene_parse", "tests/fuzz_regressions/scene"]);
-    replay(&files, scene_parse);
+    replay(&files, |data| {
+        let base = tempfile::tempdir().unwrap();
+        harness::scene_parse(data, base.path());
+    });
 }
 
 #[test]
 fn vdb_seeds_and_crash_reproducers_never_panic() {
     let files = inputs(&["fuzz/seeds/vdb_load", "tests/fuzz_regressions/vdb"]);
-    replay(&files, vdb_load);
+    replay(&files, harness::vdb_load);
 }
 
 #[test]

@@ -9,11 +9,9 @@
 
 mod common;
 
-use brume::color::Rgb;
 use brume::error::Error;
-use brume::integrator::tracking::{
-    medium_transmittance, sample_free_flight, FreeFlight, TransmittanceEstimator,
-};
+use brume::integrator::tracking::{medium_transmittance, FreeFlight, TransmittanceEstimator};
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Ray, Vec3};
 use brume::medium::{HeightFog, HomogeneousMedium, Medium, PhaseFunction, Region};
 use brume::sampling::chi2::IntervalChi2;
@@ -331,17 +329,12 @@ fn free_flight_distances_follow_closed_form_cdf() {
             (sigma * (-tau_t(t)).exp()) as f32
         };
         let result = IntervalChi2::new(0.0, t_max, n, 1).run(
-            |_| {
-                let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-                let media = std::slice::from_ref(&medium);
-                match sample_free_flight(media, &ray, t_max, &mut beta, &mut radiance, &mut sampler)
-                {
-                    FreeFlight::Scatter { t, .. } => {
-                        assert!((beta.r - 1.0).abs() < 1e-3, "{beta:?}");
-                        Some(t)
-                    }
-                    _ => None,
+            |_| match free_flight(std::slice::from_ref(&medium), &ray, t_max, &mut sampler) {
+                (FreeFlight::Scatter { t, .. }, beta, _) => {
+                    assert!((beta.r - 1.0).abs() < 1e-3, "{beta:?}");
+                    Some(t)
                 }
+                _ => None,
             },
             pdf,
         );
@@ -393,12 +386,8 @@ fn overlapping_fogs_add_under_spectral_tracking() {
         let mut acc = Accumulator::default();
         let mut sampler = Sampler::from_seed(11);
         for _ in 0..n {
-            let mut beta = Rgb::WHITE;
-            let mut radiance = Rgb::BLACK;
-            let event =
-                sample_free_flight(&media, &ray, t_max, &mut beta, &mut radiance, &mut sampler);
-            acc.add(match event {
-                FreeFlight::Passed => beta,
+            acc.add(match free_flight(&media, &ray, t_max, &mut sampler) {
+                (FreeFlight::Passed, beta, _) => beta,
                 _ => Rgb::BLACK,
             });
         }
@@ -410,23 +399,13 @@ fn overlapping_fogs_add_under_spectral_tracking() {
 /// An emitting, absorbing height fog in front of a constant sky: L = L_bg·T + Le·(1 - T) per channel.
 #[test]
 fn emission_absorption_radiance_through_height_fog() {
-    let text = r#"
-        [camera]
-        position = [0.0, 0.0, 0.0]
-        look_at = [0.0, 0.0, -1.0]
-        resolution = [4, 4]
-        [[light]]
-        type = "environment"
-        radiance = [0.2, 0.5, 1.0]
-        [[medium]]
-        type = "height_fog"
-        sigma_a = [0.3, 0.1, 0.05]
-        emission = [2.0, 1.0, 0.5]
-        height = 1.0
-        scale_height = 2.0
-    "#;
-    let scene = scene_from_str(text);
     let (bg, le) = ([0.2, 0.5, 1.0], [2.0, 1.0, 0.5]);
+    let text = SceneText::camera([0.0; 3], [0.0, 0.0, -1.0], [4, 4])
+        .environment(bg)
+        .medium(&format!(
+            "type = \"height_fog\"\nsigma_a = [0.3, 0.1, 0.05]\nemission = {le:?}\nheight = 1.0\nscale_height = 2.0"
+        ));
+    let scene = scene_from_str(&text.build());
     let medium = &scene.media[0];
     for (name, d) in [
         ("up", Vec3::new(0.0, 1.0, -0.3).normalize()),

@@ -6,9 +6,9 @@
 //! Family-wise level ALPHA, Šidák-corrected for CHI2_TEST_COUNT accepting
 //! tests; fixed seeds.
 
-use brume::color::Rgb;
 use brume::geometry::Geometry;
 use brume::light::{Environment, Light};
+use brume::math::color::Rgb;
 use brume::math::Vec3;
 use brume::sampling::chi2::{Chi2Result, SphereChi2};
 

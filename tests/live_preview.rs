@@ -1,31 +1,38 @@
 //! `--display` against a loopback tev server written here, and `--checkpoint`.
 
+mod common;
+
+use common::SceneText;
 use std::io::Read;
 use std::net::TcpListener;
 use std::path::Path;
 
 /// A small scene: a diffuse sphere under an environment, 24×16 pixels.
-const SCENE: &str = r#"
-[camera]
-position = [0.0, 0.0, 4.0]
-look_at = [0.0, 0.0, 0.0]
-fov = 40.0
-resolution = [24, 16]
-[integrator]
-spp = 48
-[[light]]
-type = "environment"
-radiance = [0.8, 0.9, 1.0]
-[[shape]]
-type = "sphere"
-center = [0.0, 0.0, 0.0]
-radius = 1.0
-material = { type = "diffuse", albedo = [0.7, 0.5, 0.3] }
-"#;
+fn scene() -> String {
+    SceneText::camera([0.0, 0.0, 4.0], [0.0; 3], [24, 16])
+        .fov(40.0)
+        .integrator("spp = 48")
+        .environment([0.8, 0.9, 1.0])
+        .sphere([0.0; 3], 1.0)
+        .with("material = { type = \"diffuse\", albedo = [0.7, 0.5, 0.3] }")
+        .build()
+}
+
+/// `brume render SCENE --out EXR --png` (the PNG beside the EXR), for more arguments.
+fn render_ball(scene: &Path, exr: &Path) -> std::process::Command {
+    let mut cmd = common::cli::brume();
+    cmd.arg("render")
+        .arg(scene)
+        .arg("--out")
+        .arg(exr)
+        .arg("--png")
+        .arg(exr.with_extension("png"));
+    cmd
+}
 
 fn write_scene(dir: &Path) -> std::path::PathBuf {
     let path = dir.join("ball.toml");
-    std::fs::write(&path, SCENE).unwrap();
+    std::fs::write(&path, scene()).unwrap();
     path
 }
 
@@ -102,17 +109,11 @@ fn display_streams_every_pass_to_a_tev_server() {
     let port = listener.local_addr().unwrap().port();
     let server = std::thread::spawn(move || read_packets(listener.accept().unwrap().0));
     let exr = dir.path().join("ball.exr");
-    assert_cmd::Command::cargo_bin("brume")
-        .unwrap()
-        .arg("render")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&exr)
-        .arg("--png")
-        .arg(dir.path().join("ball.png"))
+    let output = render_ball(&scene, &exr)
         .args(["--quiet", "--display", &format!("127.0.0.1:{port}")])
-        .assert()
-        .success();
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{output:?}");
     let packets = server.join().unwrap();
     // CreateImage first: focus, name, 24×16, three channels R, G, B.
     assert_eq!(packets[0].kind, 4);
@@ -137,7 +138,7 @@ fn display_streams_every_pass_to_a_tev_server() {
         assert_eq!((*kind, *y, *h), (6, 0, 16));
     }
     // The last pass is the final image, bit for bit.
-    let (w, h, pixels) = brume::image_io::read_exr(&exr).unwrap();
+    let (w, h, pixels) = brume::film::image_io::read_exr(&exr).unwrap();
     assert_eq!((w, h), (24, 16));
     let last = &updates[2].1 .2;
     let expected: Vec<f32> = pixels.iter().flat_map(|c| [c.r, c.g, c.b]).collect();
@@ -197,13 +198,7 @@ fn checkpoints_are_written_during_the_render_and_marked_incomplete() {
     let dir = tempfile::tempdir().unwrap();
     let scene = write_scene(dir.path());
     let exr = dir.path().join("ball.exr");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_brume"))
-        .arg("render")
-        .arg(&scene)
-        .arg("--out")
-        .arg(&exr)
-        .arg("--png")
-        .arg(dir.path().join("ball.png"))
+    let mut child = render_ball(&scene, &exr)
         .args([
             "--quiet",
             "--time",
@@ -213,6 +208,9 @@ fn checkpoints_are_written_during_the_render_and_marked_incomplete() {
             "--threads",
             "1",
         ])
+        // Nobody reads a pipe while it runs: let its output through.
+        .stdout(std::process::Stdio::inherit())
+        .stderr(std::process::Stdio::inherit())
         .spawn()
         .unwrap();
     let mut seen_incomplete = false;

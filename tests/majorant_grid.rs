@@ -329,7 +329,7 @@ fn half_voxel_cells_reach_exactly_one_voxel_beyond_each_face() {
 /// Grid media put their majorant cells' faces half-way between voxel centres.
 #[test]
 fn grid_media_align_cells_to_half_voxels() {
-    use brume::color::Rgb;
+    use brume::math::color::Rgb;
     use brume::math::Affine3A;
     use brume::medium::{GridEmission, GridMedium, GridMediumParams, PhaseFunction};
     let grid = box_grid(ORIGIN + 3, ORIGIN + 9, 0.0, 1.0);

@@ -4,9 +4,10 @@
 mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
+use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
-use brume::color::Rgb;
 use brume::material::{ConductorFresnel, Material, Shading};
+use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
 use brume::sampling::chi2::{Chi2Result, SphereChi2};
 use brume::sampling::quadrature::gauss_legendre;
@@ -212,25 +213,11 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
 
 /// A sphere of `material` in a uniform environment of radiance 1.
 fn furnace_scene(material: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 35.0
-        resolution = [10, 10]
-        [integrator]
-        max_depth = 1000
-        rr_depth = 1000
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[shape]]
-        type = "sphere"
-        radius = 1.0
-        material = {material}
-        "#
-    )
+    SceneText::furnace_view(10)
+        .depths(1000, 1000)
+        .environment(1.0)
+        .unit_sphere(material)
+        .build()
 }
 
 #[test]

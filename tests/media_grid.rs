@@ -6,9 +6,9 @@
 
 mod common;
 
-use brume::color::Rgb;
-use brume::integrator::tracking::{medium_transmittance, sample_free_flight, FreeFlight};
+use brume::integrator::tracking::{medium_transmittance, FreeFlight};
 use brume::integrator::TransmittanceEstimator;
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Bounds3, Quat, Ray, Vec3};
 use brume::medium::{
     GridEmission, GridMedium, GridMediumParams, HomogeneousMedium, MajorantMode, Medium,
@@ -16,7 +16,7 @@ use brume::medium::{
 };
 use brume::sampling::Sampler;
 use brume::volume::{FloatGrid, GridTransform};
-use common::{assert_estimate, scene_from_str, Accumulator, Estimate};
+use common::{assert_estimate, free_flight, scene_from_str, Accumulator, Estimate, SceneText};
 use glam::{DVec3, IVec3};
 use std::sync::Arc;
 
@@ -47,15 +47,7 @@ fn free_flight_transmittance(m: &Medium, ray: &Ray, t_max: f32, n: usize) -> Est
     let mut acc = Accumulator::default();
     for i in 0..n {
         let mut sampler = Sampler::new(29, 1, 2, i as u64);
-        let (mut beta, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
-        let flight = sample_free_flight(
-            std::slice::from_ref(m),
-            ray,
-            t_max,
-            &mut beta,
-            &mut radiance,
-            &mut sampler,
-        );
+        let (flight, beta, _) = free_flight(std::slice::from_ref(m), ray, t_max, &mut sampler);
         acc.add(match flight {
             FreeFlight::Passed => beta,
             _ => Rgb::BLACK,
@@ -93,20 +85,11 @@ fn check_all(
 }
 
 fn vdb_box(file: &str, majorant: &str, sigma_t_scale: &str) -> Medium {
-    let scene = scene_from_str(&format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        [[medium]]
-        type = "vdb"
-        file = "tests/data/volumes/{file}"
-        density_scale = 2.0
-        sigma_t_scale = {sigma_t_scale}
-        albedo = 0.6
-        majorant = "{majorant}"
-        "#
+    let text = SceneText::view([0.0, 0.0, 4.0], [0.0; 3]).medium(&format!(
+        "type = \"vdb\"\nfile = \"tests/data/volumes/{file}\"\ndensity_scale = 2.0\n\
+         sigma_t_scale = {sigma_t_scale}\nalbedo = 0.6\nmajorant = \"{majorant}\""
     ));
+    let scene = scene_from_str(&text.build());
     scene.media[0].clone()
 }
 
@@ -276,17 +259,9 @@ fn variance(m: &Medium, ray: &Ray, e: TransmittanceEstimator, n: usize) -> f64 {
 /// Ratio tracking has lower variance than delta tracking on the same rays through the smoke plume.
 #[test]
 fn ratio_tracking_beats_delta_tracking_variance() {
-    let scene = scene_from_str(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        [[medium]]
-        type = "vdb"
-        file = "volumes/smoke_plume.vdb"
-        density_scale = 4.0
-        "#,
-    );
+    let text = SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+        .medium("type = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\ndensity_scale = 4.0");
+    let scene = scene_from_str(&text.build());
     let m = &scene.media[0];
     let (mut var_delta, mut var_ratio) = (0.0, 0.0);
     for (o, d) in [

@@ -4,7 +4,7 @@
 
 mod common;
 
-use brume::color::Rgb;
+use brume::math::color::Rgb;
 use brume::math::{Affine3A, Ray, Vec3};
 use brume::medium::{
     GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,

@@ -14,39 +14,29 @@
 mod analytic_support;
 
 use analytic_support::common::sample_bits;
-use analytic_support::scene_from_str;
+use analytic_support::{scene_from_str, SceneText};
 
 fn with_shutter(scene: &str, shutter: &str) -> String {
     scene.replace("[camera]", &format!("[camera]\nshutter = {shutter}"))
 }
 
-const STATIC_SCENE: &str = r#"
-    [camera]
-    position = [0.0, 0.5, 4.0]
-    look_at = [0.0, 0.3, 0.0]
-    resolution = [8, 6]
-    [[light]]
-    type = "sun"
-    direction = [-0.3, -1.0, -0.2]
-    irradiance = [3.0, 3.0, 3.0]
-    [[light]]
-    type = "environment"
-    radiance = [0.2, 0.3, 0.4]
-    [[shape]]
-    type = "sphere"
-    center = [0.3, 0.3, 0.0]
-    radius = 0.4
-    [[medium]]
-    type = "homogeneous"
-    sigma_a = [0.1, 0.1, 0.1]
-    sigma_s = [0.4, 0.5, 0.6]
-    bounds = { type = "box", min = [-1.0, 0.0, -1.0], max = [1.0, 1.0, 1.0] }
-"#;
+/// A sphere and a homogeneous box under a sun and an environment.
+fn static_scene() -> String {
+    SceneText::camera([0.0, 0.5, 4.0], [0.0, 0.3, 0.0], [8, 6])
+        .sun([-0.3, -1.0, -0.2], [3.0, 3.0, 3.0])
+        .environment([0.2, 0.3, 0.4])
+        .sphere([0.3, 0.3, 0.0], 0.4)
+        .medium(
+            "type = \"homogeneous\"\nsigma_a = [0.1, 0.1, 0.1]\nsigma_s = [0.4, 0.5, 0.6]\n\
+             bounds = { type = \"box\", min = [-1.0, 0.0, -1.0], max = [1.0, 1.0, 1.0] }",
+        )
+        .build()
+}
 
 #[test]
 fn a_scene_without_motion_renders_bit_identically_with_a_shutter() {
-    let still = scene_from_str(STATIC_SCENE);
-    let blurred = scene_from_str(&with_shutter(STATIC_SCENE, "[-0.5, 0.5]"));
+    let still = scene_from_str(&static_scene());
+    let blurred = scene_from_str(&with_shutter(&static_scene(), "[-0.5, 0.5]"));
     assert_eq!(blurred.settings.shutter, Some([-0.5, 0.5]));
     let a = sample_bits(&still, 4);
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
@@ -55,31 +45,19 @@ fn a_scene_without_motion_renders_bit_identically_with_a_shutter() {
 
 const PLUME: &str = "tests/data/anim/plume.0001.vdb";
 
+/// The animated test plume under a sun, its medium table completed by `extra_medium`.
 fn plume_scene(extra_medium: &str, shutter: Option<&str>) -> String {
     let camera_shutter = shutter.map_or(String::new(), |s| format!("shutter = {s}"));
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.6, 2.5]
-        look_at = [0.0, 0.6, 0.0]
-        fov = 40.0
-        resolution = [8, 8]
-        {camera_shutter}
-        [[light]]
-        type = "sun"
-        direction = [-0.5, -1.0, -0.3]
-        irradiance = [4.0, 4.0, 4.0]
-        [[light]]
-        type = "environment"
-        radiance = [0.1, 0.1, 0.1]
-        [[medium]]
-        type = "vdb"
-        file = "{PLUME}"
-        density_scale = 30.0
-        albedo = [0.9, 0.9, 0.9]
-        {extra_medium}
-        "#
-    )
+    SceneText::camera([0.0, 0.6, 2.5], [0.0, 0.6, 0.0], [8, 8])
+        .fov(40.0)
+        .with(&camera_shutter)
+        .sun([-0.5, -1.0, -0.3], [4.0, 4.0, 4.0])
+        .environment([0.1, 0.1, 0.1])
+        .medium(&format!(
+            "type = \"vdb\"\nfile = \"{PLUME}\"\ndensity_scale = 30.0\nalbedo = [0.9, 0.9, 0.9]"
+        ))
+        .with(extra_medium)
+        .build()
 }
 
 #[test]

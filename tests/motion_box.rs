@@ -8,36 +8,20 @@
 
 #[path = "analytic_support/mod.rs"]
 mod analytic_support;
+#[path = "voxel_box_support/mod.rs"]
+mod voxel_box_support;
 
 use std::sync::Arc;
 
 use analytic_support::{assert_estimate, estimate};
-use brume::color::Rgb;
 use brume::integrator::tracking::{medium_transmittance, TransmittanceEstimator};
-use brume::math::{Affine3A, Ray, Vec3};
-use brume::medium::{
-    GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium, PhaseFunction,
-};
+use brume::math::{Ray, Vec3};
+use brume::medium::{GridMedium, Medium};
 use brume::sampling::quadrature::gauss_legendre;
 use brume::sampling::Sampler;
-use brume::volume::{FloatGrid, GridTransform, Vec3Grid};
-use glam::{DVec3, IVec3};
-
-/// Voxel size (m).
-const H: f32 = 0.1;
-/// Frames per second.
-const FPS: f32 = 24.0;
-/// Extinction per unit density (1/m).
-const SIGMA: f32 = 2.5;
-
-fn transform() -> GridTransform {
-    GridTransform::scale_translate("UniformScaleMap", DVec3::splat(H as f64), DVec3::ZERO).unwrap()
-}
-
-fn dense(origin: IVec3, dims: IVec3, value: f32) -> FloatGrid {
-    let n = (dims.x * dims.y * dims.z) as usize;
-    FloatGrid::from_dense("g", origin, dims, &vec![value; n], transform()).unwrap()
-}
+use brume::volume::FloatGrid;
+use glam::IVec3;
+use voxel_box_support::*;
 
 /// The box of voxels 0..=7 on every axis, density 1.
 fn box_medium(velocity: Option<(Vec3, [f32; 2])>) -> Medium {
@@ -46,40 +30,12 @@ fn box_medium(velocity: Option<(Vec3, [f32; 2])>) -> Medium {
 
 /// A medium over `density` (majorant cells of `cell` voxels), moving at constant `velocity` over a shutter.
 fn moving_medium(density: FloatGrid, cell: i32, velocity: Option<(Vec3, [f32; 2])>) -> Medium {
-    let params = GridMediumParams {
-        to_world: Affine3A::IDENTITY,
-        density_scale: SIGMA,
-        sigma_t_scale: Rgb::WHITE,
-        albedo: Rgb::splat(0.5),
-        phase: PhaseFunction::Isotropic,
-        emission: GridEmission::None,
-        majorant: MajorantMode::Grid,
-        cell_size: Some(cell),
-    };
-    let motion = velocity.map(|(v, shutter)| {
-        // constant velocity over a region holding every point the box sweeps
-        let (o, d) = (IVec3::splat(-16), IVec3::splat(40));
-        let components = [dense(o, d, v.x), dense(o, d, v.y), dense(o, d, v.z)];
-        GridMotion {
-            velocity: Vec3Grid::from_components("vel", components).unwrap(),
-            scale: 1.0 / FPS,
-            shutter,
-        }
-    });
-    Medium::Grid(Arc::new(GridMedium::new_moving(density, params, motion)))
-}
-
-/// The x profile of the trilinear box: 1 on [0, 7], linear to 0 at -1 and 8.
-fn profile(q: f64) -> f64 {
-    (1.0 - (-q).max(q - 7.0).max(0.0)).clamp(0.0, 1.0)
-}
-
-/// A ray along +z through index (qx, 3.5, ·), crossing the whole box.
-fn ray_at(qx: f32, time: f32) -> Ray {
-    Ray {
-        time,
-        ..Ray::new(Vec3::new(qx * H, 3.5 * H, -1.0), Vec3::Z)
-    }
+    let motion = velocity.map(|(v, shutter)| constant_velocity(v, shutter));
+    Medium::Grid(Arc::new(GridMedium::new_moving(
+        density,
+        params(cell),
+        motion,
+    )))
 }
 
 #[test]
@@ -157,11 +113,7 @@ fn check_majorants(medium: &Medium, shutter: [f32; 2], centre: Vec3, size: f32) 
 fn the_dilated_majorant_bounds_every_collision_over_the_shutter() {
     // dense on one side (x < 8), light on the other, small cells: the motion
     // carries dense voxels into cells whose still bound is light
-    let dims = IVec3::new(16, 8, 8);
-    let values: Vec<f32> = (0..dims.x * dims.y * dims.z)
-        .map(|i| if i % dims.x < 8 { 1.0 } else { 0.1 })
-        .collect();
-    let density = FloatGrid::from_dense("d", IVec3::ZERO, dims, &values, transform()).unwrap();
+    let density = half_dense();
     let v = Vec3::new(9.6, -4.8, 2.4);
     let shutter = [-0.5, 0.5];
     let moving = moving_medium(density, 2, Some((v, shutter)));

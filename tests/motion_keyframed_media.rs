@@ -13,46 +13,35 @@
 
 #[path = "analytic_support/mod.rs"]
 mod analytic_support;
+#[path = "voxel_box_support/mod.rs"]
+mod voxel_box_support;
 
 use std::sync::Arc;
 
 use analytic_support::common::scene_from_str;
-use analytic_support::{assert_estimate, assert_same, estimate};
-use brume::color::Rgb;
+use analytic_support::{assert_estimate, assert_same, estimate, SceneText};
 use brume::integrator::tracking::{medium_transmittance, TransmittanceEstimator};
 use brume::math::keyframes::{Key, Keyframes};
-use brume::math::{Affine3A, Quat, Ray, Vec3};
-use brume::medium::{
-    GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium, PhaseFunction,
-};
+use brume::math::{Quat, Ray, Vec3};
+use brume::medium::{GridMedium, Medium};
 use brume::render::pixel_sample;
 use brume::sampling::quadrature::gauss_legendre;
 use brume::sampling::Sampler;
-use brume::volume::{FloatGrid, GridTransform, Vec3Grid};
 use glam::{DQuat, DVec3, IVec3};
+use voxel_box_support::*;
 
 const SHUTTER: [f32; 2] = [-0.5, 0.5];
 const SIGMA_T: f64 = 1.5;
 
+/// A homogeneous medium in `bounds` moved by the keyframes `keys`, under a uniform sky.
 fn medium_scene(bounds: &str, keys: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 5.0]
-        look_at = [0.0, 0.0, 0.0]
-        resolution = [4, 4]
-        shutter = [-0.5, 0.5]
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[medium]]
-        type = "homogeneous"
-        sigma_t = {SIGMA_T}
-        albedo = 0.5
-        bounds = {bounds}
-        transform = {keys}
-        "#
-    )
+    SceneText::camera([0.0, 0.0, 5.0], [0.0; 3], [4, 4])
+        .with("shutter = [-0.5, 0.5]")
+        .environment(1.0)
+        .medium(&format!(
+            "type = \"homogeneous\"\nsigma_t = {SIGMA_T:?}\nalbedo = 0.5\nbounds = {bounds}\ntransform = {keys}"
+        ))
+        .build()
 }
 
 /// Slab chord of the ray (o, d) through the box [lo, hi] (f64).
@@ -143,32 +132,6 @@ fn a_translating_sphere_transmits_the_shutter_average_of_its_chords() {
 
 // --- a grid box: keyframes against the velocity grid ---------------------
 
-/// Voxel size (m), frames per second and extinction per unit density, as tests/motion_box.rs.
-const H: f32 = 0.1;
-const FPS: f32 = 24.0;
-const SIGMA: f32 = 2.5;
-
-fn dense(origin: IVec3, dims: IVec3, value: f32) -> FloatGrid {
-    let n = (dims.x * dims.y * dims.z) as usize;
-    let transform =
-        GridTransform::scale_translate("UniformScaleMap", DVec3::splat(H as f64), DVec3::ZERO)
-            .unwrap();
-    FloatGrid::from_dense("g", origin, dims, &vec![value; n], transform).unwrap()
-}
-
-fn params() -> GridMediumParams {
-    GridMediumParams {
-        to_world: Affine3A::IDENTITY,
-        density_scale: SIGMA,
-        sigma_t_scale: Rgb::WHITE,
-        albedo: Rgb::splat(0.5),
-        phase: PhaseFunction::Isotropic,
-        emission: GridEmission::None,
-        majorant: MajorantMode::Grid,
-        cell_size: Some(4),
-    }
-}
-
 fn key(time: f32, translate: Vec3, rotation: Quat, scale: f32) -> Key {
     Key {
         time,
@@ -178,37 +141,22 @@ fn key(time: f32, translate: Vec3, rotation: Quat, scale: f32) -> Key {
     }
 }
 
-/// The x profile of the trilinear box of voxels 0..=7: 1 on [0, 7], linear to 0 at −1 and 8.
-fn profile(q: f64) -> f64 {
-    (1.0 - (-q).max(q - 7.0).max(0.0)).clamp(0.0, 1.0)
-}
-
 #[test]
 fn a_keyframed_grid_box_equals_the_velocity_grid_box_and_the_quadrature() {
     // 9.6 m/s is 0.4 m (4 voxels) per frame: over [0, 0.5] the box moves 2 voxels in +x.
     let v = Vec3::new(9.6, 0.0, 0.0);
     let shutter = [0.0f32, 0.5];
     let density = dense(IVec3::ZERO, IVec3::splat(8), 1.0);
-    let (o, d) = (IVec3::splat(-16), IVec3::splat(40));
-    let velocity = GridMotion {
-        velocity: Vec3Grid::from_components(
-            "vel",
-            [dense(o, d, v.x), dense(o, d, v.y), dense(o, d, v.z)],
-        )
-        .unwrap(),
-        scale: 1.0 / FPS,
-        shutter,
-    };
     let eulerian = Medium::Grid(Arc::new(GridMedium::new_moving(
         density.clone(),
-        params(),
-        Some(velocity),
+        params(4),
+        Some(constant_velocity(v, shutter)),
     )));
     let keys = Keyframes::new(&[
         key(0.0, Vec3::ZERO, Quat::IDENTITY, 1.0),
         key(0.5, v * (0.5 / FPS), Quat::IDENTITY, 1.0),
     ]);
-    let keyed = Medium::Grid(Arc::new(GridMedium::new(density, params()))).moved_by(keys);
+    let keyed = Medium::Grid(Arc::new(GridMedium::new(density, params(4)))).moved_by(keys);
     let v_index = (v.x / FPS / H) as f64;
     let tau_across = (SIGMA * H * 8.0) as f64;
     for qx in [8.5f32, 7.5, 3.0] {
@@ -217,10 +165,7 @@ fn a_keyframed_grid_box_equals_the_velocity_grid_box_and_the_quadrature() {
         let run = |medium: &Medium| {
             estimate(40_000, 11, |s: &mut Sampler| {
                 let time = shutter[0] + (shutter[1] - shutter[0]) * s.next_1d();
-                let ray = Ray {
-                    time,
-                    ..Ray::new(Vec3::new(qx * H, 3.5 * H, -1.0), Vec3::Z)
-                };
+                let ray = ray_at(qx, time);
                 medium_transmittance(medium, &ray, 3.0, TransmittanceEstimator::Ratio, s)
             })
         };
@@ -232,21 +177,7 @@ fn a_keyframed_grid_box_equals_the_velocity_grid_box_and_the_quadrature() {
 
 #[test]
 fn the_keyframed_majorant_bounds_every_point_at_every_time() {
-    let dims = IVec3::new(16, 8, 8);
-    let values: Vec<f32> = (0..dims.x * dims.y * dims.z)
-        .map(|i| if i % dims.x < 8 { 1.0 } else { 0.1 })
-        .collect();
-    let transform =
-        GridTransform::scale_translate("UniformScaleMap", DVec3::splat(H as f64), DVec3::ZERO)
-            .unwrap();
-    let density = FloatGrid::from_dense("d", IVec3::ZERO, dims, &values, transform).unwrap();
-    let grid = GridMedium::new(
-        density,
-        GridMediumParams {
-            cell_size: Some(2),
-            ..params()
-        },
-    );
+    let grid = GridMedium::new(half_dense(), params(2));
     let keys = Keyframes::new(&[
         key(-0.5, Vec3::new(-0.5, 0.0, 0.0), Quat::IDENTITY, 1.0),
         key(

@@ -11,7 +11,9 @@
 mod common;
 
 use brume::integrator::Scene;
-use common::{assert_pixels, estimate_pixels, sample_bits, scene_from_str, Accumulator, Estimate};
+use common::{
+    assert_pixels, estimate_pixels, sample_bits, scene_from_str, Accumulator, Estimate, SceneText,
+};
 
 /// ∫ f over [a, b] by the midpoint rule on `n` pieces (exact to ~1e-9 for the ramps here).
 fn average(a: f64, b: f64, f: impl Fn(f64) -> f64) -> f64 {
@@ -23,26 +25,19 @@ fn average(a: f64, b: f64, f: impl Fn(f64) -> f64) -> f64 {
 /// A 16×2 camera with a 90° horizontal fov at the origin looking down −z at
 /// an emitter filling x < 0 on the plane z = −8: pixel i sees plane x in [i − 8, i − 7].
 fn edge_scene(camera_extra: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 0.0]
-        look_at = [0.0, 0.0, -1.0]
-        fov = 90.0
-        fov_axis = "x"
-        resolution = [16, 2]
-        {camera_extra}
-        [integrator]
-        max_depth = 1
-        [[shape]]
-        type = "quad"
-        center = [-25.0, 0.0, -8.0]
-        normal = [0.0, 0.0, 1.0]
-        size = [50.0, 10.0]
-        u_axis = [1.0, 0.0, 0.0]
-        emission = 1.0
-        "#
-    )
+    edge_view(camera_extra)
+        .quad([-25.0, 0.0, -8.0], [0.0, 0.0, 1.0], [50.0, 10.0])
+        .with("u_axis = [1.0, 0.0, 0.0]\nemission = 1.0")
+        .build()
+}
+
+/// The camera and integrator of [`edge_scene`], without the emitter.
+fn edge_view(camera_extra: &str) -> SceneText {
+    SceneText::camera([0.0; 3], [0.0, 0.0, -1.0], [16, 2])
+        .fov(90.0)
+        .with("fov_axis = \"x\"")
+        .with(camera_extra)
+        .integrator("max_depth = 1")
 }
 
 #[test]
@@ -101,11 +96,9 @@ fn swept_coverage(i: usize) -> f64 {
     })
 }
 
+/// [`edge_scene`] with a shutter and `shape` (TOML) as the only emitter.
 fn moving_emitter_scene(shape: &str) -> String {
-    edge_scene("shutter = [-0.5, 0.5]").replace(
-        "[[shape]]\n        type = \"quad\"\n        center = [-25.0, 0.0, -8.0]\n        normal = [0.0, 0.0, 1.0]\n        size = [50.0, 10.0]\n        u_axis = [1.0, 0.0, 0.0]\n        emission = 1.0",
-        shape,
-    )
+    edge_view("shutter = [-0.5, 0.5]").raw(shape).build()
 }
 
 const SLIDE: &str = "transform = { keyframes = [{ time = -0.5, translate = [-3.0, 0.0, 0.0] }, \
@@ -164,25 +157,13 @@ fn polygon_irradiance(p: glam::DVec3, n: glam::DVec3, corners: &[glam::DVec3]) -
 
 /// A diffuse floor at y = 0 lit only by `light` (TOML); one bounce.
 fn floor_scene(light: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 3.0, 0.0]
-        look_at = [0.0, 0.0, 0.0]
-        up = [0.0, 0.0, -1.0]
-        resolution = [4, 4]
-        shutter = [-0.5, 0.5]
-        [integrator]
-        max_depth = 1
-        [[shape]]
-        type = "quad"
-        center = [0.0, 0.0, 0.0]
-        normal = [0.0, 1.0, 0.0]
-        size = [40.0, 40.0]
-        material = {{ type = "diffuse", albedo = 0.5 }}
-        {light}
-        "#
-    )
+    SceneText::camera([0.0, 3.0, 0.0], [0.0; 3], [4, 4])
+        .with("up = [0.0, 0.0, -1.0]\nshutter = [-0.5, 0.5]")
+        .integrator("max_depth = 1")
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [40.0, 40.0])
+        .with("material = { type = \"diffuse\", albedo = 0.5 }")
+        .raw(light)
+        .build()
 }
 
 /// Radiance leaving floor point (x0, 0, 0) upward, averaged over the shutter.

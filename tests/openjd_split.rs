@@ -6,6 +6,7 @@
 //! namespace of its own, so it provably needs no network. Without openjd the
 //! test fails under CI (CI set) and says it was skipped elsewhere.
 
+mod common;
 #[path = "scale_out_support/mod.rs"]
 mod support;
 

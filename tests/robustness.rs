@@ -3,70 +3,30 @@
 //! header; a failed render never touches an existing image nor leaves
 //! temporary files; a write failure after rendering exits with code 1.
 
-use assert_cmd::cargo::CommandCargoExt;
+mod common;
+
+use common::cli::{self, brume};
+use common::SceneText;
 use exr::meta::attribute::AttributeValue;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Child, Output};
+use std::time::Duration;
 
 /// A sphere on a plane; `spp` large enough that only a signal ends the render.
 fn slow_scene(dir: &Path) -> PathBuf {
     let scene = dir.join("slow.toml");
-    let text = r#"
-[camera]
-position = [0.0, 1.0, 4.0]
-look_at = [0.0, 0.5, 0.0]
-resolution = [96, 64]
-
-[integrator]
-spp = 1000000
-
-[[light]]
-type = "point"
-position = [0.0, 3.0, 2.0]
-intensity = 20.0
-
-[[shape]]
-type = "sphere"
-center = [0.0, 0.5, 0.0]
-radius = 0.5
-
-[[shape]]
-type = "quad"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 1.0, 0.0]
-size = [10.0, 10.0]
-"#;
-    std::fs::write(&scene, text).unwrap();
+    let text = SceneText::camera([0.0, 1.0, 4.0], [0.0, 0.5, 0.0], [96, 64])
+        .integrator("spp = 1000000")
+        .point_light([0.0, 3.0, 2.0], 20.0)
+        .sphere([0.0, 0.5, 0.0], 0.5)
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [10.0, 10.0]);
+    std::fs::write(&scene, text.build()).unwrap();
     scene
 }
 
-fn brume() -> Command {
-    let mut cmd = Command::cargo_bin("brume").unwrap();
-    cmd.stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    cmd
-}
-
 /// Sends `signal` (e.g. "INT") to the child after `after`, then waits at most 30 s.
-fn signal_and_wait(mut child: Child, signal: &str, after: Duration) -> Output {
-    std::thread::sleep(after);
-    let status = Command::new("kill")
-        .arg(format!("-{signal}"))
-        .arg(child.id().to_string())
-        .status()
-        .unwrap();
-    assert!(status.success(), "kill -{signal} failed");
-    let deadline = Instant::now() + Duration::from_secs(30);
-    while child.try_wait().unwrap().is_none() {
-        if Instant::now() > deadline {
-            child.kill().unwrap();
-            panic!("brume did not stop within 30 s of SIG{signal}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
+fn signal_and_wait(child: Child, signal: &str, after: Duration) -> Output {
+    cli::signal_and_wait(child, signal, after, Duration::from_secs(30))
 }
 
 /// The `brume:spp` and `brume:complete` header attributes of an EXR.
@@ -125,7 +85,7 @@ fn interrupted_render(signal: &str, extra: &[&str], pass: i32) -> (tempfile::Tem
     );
     assert!(dir.path().join("slow.png").exists());
     assert!(temporaries(dir.path()).is_empty());
-    let (_, _, pixels) = brume::image_io::read_exr(&exr).unwrap();
+    let (_, _, pixels) = brume::film::image_io::read_exr(&exr).unwrap();
     assert!(pixels.iter().all(|p| p.is_finite()));
     assert!(pixels.iter().any(|p| p.max_channel() > 0.0));
     (dir, spp)
@@ -144,8 +104,8 @@ fn sigint_saves_exactly_the_finished_passes() {
         .unwrap();
     assert!(output.status.success());
     assert_eq!(brume_attributes(&dir.path().join("full.exr")), (spp, 1));
-    let (_, _, partial) = brume::image_io::read_exr(&dir.path().join("slow.exr")).unwrap();
-    let (_, _, full) = brume::image_io::read_exr(&dir.path().join("full.exr")).unwrap();
+    let (_, _, partial) = brume::film::image_io::read_exr(&dir.path().join("slow.exr")).unwrap();
+    let (_, _, full) = brume::film::image_io::read_exr(&dir.path().join("full.exr")).unwrap();
     assert!(
         partial == full,
         "the interrupted image differs from a {spp} spp render"

@@ -5,8 +5,11 @@
 //! `--skip-existing` then resumes: it keeps the complete frames byte for
 //! byte and renders the rest.
 
+mod common;
+
 use assert_cmd::cargo::CommandCargoExt;
-use brume::image_io::exr_is_complete;
+use brume::film::image_io::exr_is_complete;
+use common::SceneText;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -14,28 +17,17 @@ use std::time::{Duration, Instant};
 const FRAMES: usize = 6;
 
 /// A still scene slow enough (about a second a frame) to be stopped mid-sequence.
-const SCENE: &str = r#"
-[camera]
-position = [0.0, 1.0, 4.0]
-look_at = [0.0, 0.5, 0.0]
-resolution = [64, 64]
-[integrator]
-spp = 256
-[[light]]
-type = "point"
-position = [0.0, 3.0, 2.0]
-intensity = 20.0
-[[shape]]
-type = "quad"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 1.0, 0.0]
-size = [4.0, 4.0]
-[[medium]]
-type = "homogeneous"
-sigma_t = 0.3
-albedo = 0.8
-bounds = { type = "box", min = [-2.0, 0.0, -2.0], max = [2.0, 2.0, 2.0] }
-"#;
+fn scene() -> String {
+    SceneText::camera([0.0, 1.0, 4.0], [0.0, 0.5, 0.0], [64, 64])
+        .integrator("spp = 256")
+        .point_light([0.0, 3.0, 2.0], 20.0)
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [4.0, 4.0])
+        .medium(
+            "type = \"homogeneous\"\nsigma_t = 0.3\nalbedo = 0.8\n\
+             bounds = { type = \"box\", min = [-2.0, 0.0, -2.0], max = [2.0, 2.0, 2.0] }",
+        )
+        .build()
+}
 
 fn exr(dir: &Path, f: usize) -> std::path::PathBuf {
     dir.join(format!("seq.{f:04}.exr"))
@@ -53,7 +45,7 @@ fn names(dir: &Path) -> Vec<String> {
 #[test]
 fn sigint_mid_sequence_keeps_finished_frames_and_skip_existing_resumes() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("seq.toml"), SCENE).unwrap();
+    std::fs::write(dir.path().join("seq.toml"), scene()).unwrap();
     let frames = format!("1-{FRAMES}");
     let mut child = Command::cargo_bin("brume")
         .unwrap()

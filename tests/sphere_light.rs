@@ -46,29 +46,18 @@ fn scene_text(p: Vec3, e: f64, d: f64, r: f64, medium: bool) -> String {
     } else {
         ""
     };
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 1.0, 5.0]
-        look_at = [0.0, 0.0, 0.0]
-        [integrator]
-        max_depth = 1
-        [[shape]]
-        type = "quad"
-        center = [{}, {}, {}]
-        normal = [0.0, 1.0, 0.0]
-        size = [1.0, 1.0]
-        material = {{ type = "diffuse", albedo = {ALBEDO} }}
-        [[shape]]
-        type = "sphere"
-        center = [{}, {}, {}]
-        radius = {r}
-        emission = {RADIANCE}
-        material = {{ type = "diffuse", albedo = 0.0 }}
-        {medium}
-        "#,
-        p.x, p.y, p.z, c[0], c[1], c[2]
-    )
+    SceneText::view([0.0, 1.0, 5.0], [0.0; 3])
+        .integrator("max_depth = 1")
+        .quad(p.to_array(), [0.0, 1.0, 0.0], [1.0, 1.0])
+        .with(&format!(
+            "material = {{ type = \"diffuse\", albedo = {ALBEDO} }}"
+        ))
+        .sphere(c, r)
+        .with(&format!(
+            "emission = {RADIANCE}\nmaterial = {{ type = \"diffuse\", albedo = 0.0 }}"
+        ))
+        .raw(medium)
+        .build()
 }
 
 /// Radiance of the plane point `p` seen from above at max_depth 1: ρ/π·E.

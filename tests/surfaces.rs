@@ -22,26 +22,14 @@ fn furnace_with(
     fov: f32,
     sampler: &str,
 ) -> Vec<Estimate> {
-    let scene = scene_from_str(&format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = {fov}
-        resolution = [{resolution}, {resolution}]
-        [integrator]
-        max_depth = 1000
-        rr_depth = {rr_depth}
-        sampler = "{sampler}"
-        [[light]]
-        type = "environment"
-        radiance = 1.0
-        [[shape]]
-        type = "sphere"
-        radius = 1.0
-        material = {material}
-        "#
-    ));
+    let text = SceneText::camera([0.0, 0.0, 4.0], [0.0; 3], [resolution, resolution])
+        .fov(fov)
+        .integrator(&format!(
+            "max_depth = 1000\nrr_depth = {rr_depth}\nsampler = \"{sampler}\""
+        ))
+        .environment(1.0)
+        .unit_sphere(material);
+    let scene = scene_from_str(&text.build());
     estimate_pixels(&scene, 256)
 }
 
@@ -86,28 +74,17 @@ fn white_furnace_mirror_sphere() {
 /// A diffuse plane lit by a point light: L = ρ/π · I cosθ / r², exactly.
 #[test]
 fn point_light_on_diffuse_plane_matches_closed_form() {
-    let scene = scene_from_str(
-        r#"
-        [camera]
-        position = [0.0, 5.0, 5.0]
-        look_at = [0.0, 0.0, 0.0]
-        resolution = [4, 4]
-        [integrator]
-        max_depth = 1
-        [[light]]
-        type = "point"
-        position = [1.0, 2.0, -0.5]
-        intensity = [10.0, 20.0, 5.0]
-        [[shape]]
-        type = "quad"
-        normal = [0.0, 1.0, 0.0]
-        size = [100.0, 100.0]
-        material = { type = "diffuse", albedo = [0.5, 0.25, 0.8] }
-        "#,
-    );
     let light = [1.0f64, 2.0, -0.5];
     let intensity = [10.0, 20.0, 5.0];
     let albedo = [0.5, 0.25, 0.8];
+    let text = SceneText::camera([0.0, 5.0, 5.0], [0.0; 3], [4, 4])
+        .integrator("max_depth = 1")
+        .point_light(light, intensity)
+        .shape(&format!(
+            "type = \"quad\"\nnormal = [0.0, 1.0, 0.0]\nsize = [100.0, 100.0]\n\
+             material = {{ type = \"diffuse\", albedo = {albedo:?} }}"
+        ));
+    let scene = scene_from_str(&text.build());
     for target in [
         [0.0f32, 0.0, 0.0],
         [3.0, 0.0, 1.0],

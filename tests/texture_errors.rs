@@ -2,7 +2,9 @@
 //! naming the scene file, the key path as written and, for files, the
 //! texture or OBJ file; never a panic, never a touched output.
 
-use assert_cmd::Command;
+mod common;
+
+use common::cli::assert_scene_refused;
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Image as ExrImage, Layer as ExrLayer,
     LayerAttributes, SmallVec, WritableImage,
@@ -118,46 +120,10 @@ fn cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
 fn every_bad_texture_gives_one_clear_error_line_and_exit_code_2() {
     let dir = tempfile::tempdir().unwrap();
     setup(dir.path());
+    let none: [&str; 0] = [];
     for (i, (name, text, culprits)) in cases().iter().enumerate() {
-        let scene = dir.path().join(format!("case{i}.toml"));
-        std::fs::write(&scene, text).unwrap();
-        let out = dir.path().join("out.exr");
-        std::fs::write(&out, b"precious").unwrap();
-        let output = Command::cargo_bin("brume")
-            .unwrap()
-            .args(["render", "--quiet"])
-            .arg(&scene)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(
-            output.status.code(),
-            Some(2),
-            "{name}: exit code, stderr: {stderr}"
-        );
-        assert!(!stderr.contains("panicked"), "{name}: panicked: {stderr}");
-        assert_eq!(
-            stderr.trim_end().lines().count(),
-            1,
-            "{name}: one line expected: {stderr}"
-        );
-        assert!(
-            stderr.contains(&format!("case{i}.toml")),
-            "{name}: scene file not named: {stderr}"
-        );
-        for culprit in culprits {
-            assert!(
-                stderr.contains(culprit),
-                "{name}: '{culprit}' not named: {stderr}"
-            );
-        }
-        assert_eq!(
-            std::fs::read(&out).unwrap(),
-            b"precious",
-            "{name}: output touched"
-        );
+        let file = format!("case{i}.toml");
+        assert_scene_refused(dir.path(), &file, text, &none, culprits, name);
     }
 }
 

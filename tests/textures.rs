@@ -19,8 +19,8 @@
 
 mod common;
 
-use brume::color::Rgb;
-use common::{assert_pixels_equal, estimate_pixels, Estimate};
+use brume::math::color::Rgb;
+use common::{assert_pixels_equal, estimate_pixels, Estimate, SceneText};
 use std::path::{Path, PathBuf};
 
 /// The bytes of tests/data/textures/checker4x2.png (row 0 at the top), as in tools/make_textures.py.
@@ -121,18 +121,10 @@ fn texture_png() -> PathBuf {
 /// A camera at z = 1 looking down −Z with a 90° vertical fov over W × H pixels:
 /// the view at z = 0 is exactly [−2, 2] × [−1, 1], the quad of `quad()`.
 fn camera(max_depth: u32, spp: u32) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 1.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 90.0
-        resolution = [{W}, {H}]
-        [integrator]
-        max_depth = {max_depth}
-        spp = {spp}
-        "#
-    )
+    SceneText::camera([0.0, 0.0, 1.0], [0.0; 3], [W, H])
+        .fov(90.0)
+        .integrator(&format!("max_depth = {max_depth}\nspp = {spp}"))
+        .build()
 }
 
 /// A quad at z = 0 facing the camera, u along +X and v along +Y, with `extra` keys.
@@ -208,14 +200,14 @@ fn exr_emission_is_read_linear_and_png_can_be_declared_linear() {
             Rgb::new(t[0] as f32, t[1] as f32, t[2] as f32)
         })
         .collect();
-    let image = brume::image_io::Image {
+    let image = brume::film::image_io::Image {
         width: 4,
         height: 2,
         pixels,
         spp: 1,
         partial: false,
     };
-    brume::image_io::write_exr(&dir.path().join("tex.exr"), &image).unwrap();
+    brume::film::image_io::write_exr(&dir.path().join("tex.exr"), &image).unwrap();
     std::fs::copy(texture_png(), dir.path().join("tex.png")).unwrap();
     let want = expected(|u, v| bilinear(u, v, true, false));
     for emission in [
@@ -289,32 +281,18 @@ fn receiver_under_a_checkerboard_emitter_sees_each_square_at_its_radiance() {
     // Emitter: the square [−1, 1]² at y = 1 facing down, over a small receiver off its centre.
     let (a, b) = ([4.0, 1.0, 0.5], [0.2, 3.0, 1.0]);
     let p = [0.3, 0.0, -0.2];
-    let text = format!(
-        r#"
-        [camera]
-        position = [0.3, 0.5, -0.2]
-        look_at = [0.3, 0.0, -0.2]
-        up = [0.0, 0.0, 1.0]
-        fov = 0.1
-        resolution = [4, 4]
-        [integrator]
-        max_depth = 1
-        [[shape]]
-        type = "quad"
-        center = [0.3, 0.0, -0.2]
-        normal = [0.0, 1.0, 0.0]
-        size = [0.01, 0.01]
-        material = {{ type = "diffuse", albedo = 1.0 }}
-        [[shape]]
-        type = "quad"
-        center = [0.0, 1.0, 0.0]
-        normal = [0.0, -1.0, 0.0]
-        u_axis = [1.0, 0.0, 0.0]
-        size = [2.0, 2.0]
-        material = {{ type = "diffuse", albedo = 0.0 }}
-        emission = {{ type = "checkerboard", a = {a:?}, b = {b:?}, uv_scale = 1.5 }}
-        "#
-    );
+    let text = SceneText::camera([0.3, 0.5, -0.2], p, [4, 4])
+        .with("up = [0.0, 0.0, 1.0]")
+        .fov(0.1)
+        .integrator("max_depth = 1")
+        .quad(p, [0.0, 1.0, 0.0], [0.01, 0.01])
+        .with("material = { type = \"diffuse\", albedo = 1.0 }")
+        .quad([0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [2.0, 2.0])
+        .with(&format!(
+            "u_axis = [1.0, 0.0, 0.0]\nmaterial = {{ type = \"diffuse\", albedo = 0.0 }}\n\
+             emission = {{ type = \"checkerboard\", a = {a:?}, b = {b:?}, uv_scale = 1.5 }}"
+        ))
+        .build();
     let scene = common::scene_from_str(&text);
     // u along +X; v along normal × u = (−Y) × X = +Z. Corner (u, v) = (0, 0) at (−1, 1, −1).
     // uv_scale 1.5: a 3 × 3 board of squares 2/3 wide; square (i, k) has colour a when i + k is even.

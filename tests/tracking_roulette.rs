@@ -5,8 +5,8 @@
 mod analytic_support;
 
 use analytic_support::*;
-use brume::color::Rgb;
 use brume::integrator::tracking::ratio_tracking_scaled_majorant_roulette;
+use brume::math::color::Rgb;
 use brume::math::{Bounds3, Ray, Vec3};
 use brume::medium::{HomogeneousMedium, Medium, PhaseFunction, Region};
 

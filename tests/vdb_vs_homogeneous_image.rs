@@ -10,43 +10,22 @@ mod common;
 
 use common::*;
 
+/// A lit room deep inside the 128 m box: a point light, a sky, an emissive
+/// wall, a floor and a red ball, with `medium` (TOML) around them.
 fn scene(medium: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [64.0, 64.0, 56.0]
-        look_at = [64.0, 64.0, 70.0]
-        fov = 50.0
-        resolution = [8, 8]
-        [integrator]
-        max_depth = 32
-        [[light]]
-        type = "point"
-        position = [65.0, 66.0, 60.0]
-        intensity = [10.0, 8.0, 6.0]
-        [[light]]
-        type = "environment"
-        radiance = 0.2
-        [[shape]]
-        type = "quad"
-        center = [64.0, 64.0, 66.0]
-        normal = [0.0, 0.0, -1.0]
-        size = [20.0, 20.0]
-        emission = [1.0, 0.8, 0.5]
-        [[shape]]
-        type = "quad"
-        center = [64.0, 61.0, 60.0]
-        normal = [0.0, 1.0, 0.0]
-        size = [40.0, 40.0]
-        material = {{ type = "diffuse", albedo = 0.6 }}
-        [[shape]]
-        type = "sphere"
-        center = [63.0, 63.0, 61.0]
-        radius = 1.0
-        material = {{ type = "diffuse", albedo = [0.7, 0.3, 0.2] }}
-        {medium}
-        "#
-    )
+    SceneText::camera([64.0, 64.0, 56.0], [64.0, 64.0, 70.0], [8, 8])
+        .fov(50.0)
+        .integrator("max_depth = 32")
+        .point_light([65.0, 66.0, 60.0], [10.0, 8.0, 6.0])
+        .environment(0.2)
+        .quad([64.0, 64.0, 66.0], [0.0, 0.0, -1.0], [20.0, 20.0])
+        .with("emission = [1.0, 0.8, 0.5]")
+        .quad([64.0, 61.0, 60.0], [0.0, 1.0, 0.0], [40.0, 40.0])
+        .with("material = { type = \"diffuse\", albedo = 0.6 }")
+        .sphere([63.0, 63.0, 61.0], 1.0)
+        .with("material = { type = \"diffuse\", albedo = [0.7, 0.3, 0.2] }")
+        .raw(medium)
+        .build()
 }
 
 #[test]

@@ -42,7 +42,7 @@ aov)
     tests=(--lib --test aovs --test motion_keyframes) ;;
 light)
     export NEXTEST_PROFILE=mutants-lights
-    files=(-f src/light.rs -f 'src/light/**')
+    files=(-f src/light/mod.rs -f 'src/light/**')
     tests=(--lib "${render[@]}" --test envmap --test light_sampling_chi2
         --test textures --test motion_keyframes) ;;
 majorant)

@@ -1,6 +1,9 @@
 //! Scene text → parse → build: any input may be refused, none may panic.
 #![no_main]
 
+#[path = "../harness.rs"]
+mod harness;
+
 use libfuzzer_sys::fuzz_target;
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -15,12 +18,4 @@ fn base() -> &'static PathBuf {
     })
 }
 
-fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else {
-        return;
-    };
-    let file = base().join("fuzz.toml");
-    if let Ok(desc) = brume::scene::parse(text, &file) {
-        let _ = brume::scene::build(&desc, &file, base());
-    }
-});
+fuzz_target!(|data: &[u8]| harness::scene_parse(data, base()));

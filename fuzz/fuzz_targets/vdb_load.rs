@@ -2,43 +2,9 @@
 //! aborts, huge allocations and hangs are not.
 #![no_main]
 
-use brume::volume::VdbFile;
-use glam::{DVec3, IVec3, Vec3};
-use libfuzzer_sys::fuzz_target;
-use std::path::Path;
+#[path = "../harness.rs"]
+mod harness;
 
-fuzz_target!(|data: &[u8]| {
-    let Ok(file) = VdbFile::from_bytes(Path::new("fuzz.vdb"), data.to_vec()) else {
-        return;
-    };
-    let _ = file.grids();
-    for name in file.grid_names() {
-        let Ok(grid) = file.load_float_grid(&name) else {
-            continue;
-        };
-        // What `brume info` and the renderer ask of a loaded grid.
-        let _ = (grid.active_voxel_count(), grid.value_range());
-        let _ = (grid.sum_active_values(), grid.memory_bytes());
-        let _ = grid.blocks().count();
-        let (lo, hi) = grid
-            .index_bbox_active()
-            .unwrap_or((IVec3::ZERO, IVec3::ONE));
-        let mid = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
-        for p in [
-            lo.as_dvec3(),
-            hi.as_dvec3(),
-            mid,
-            mid + 0.37,
-            DVec3::splat(-1e9),
-        ] {
-            let _ = grid.trilinear_index_f64(p);
-            let _ = grid.trilinear_index(p.as_vec3());
-            let _ = grid.nearest_index(p);
-            let w = grid.transform().index_to_world(p);
-            let _ = grid.trilinear_world(w);
-            let _ = grid.transform().world_to_index(w);
-        }
-        let _ = grid.trilinear_index(Vec3::NAN);
-        let _ = (grid.value(lo), grid.is_active(hi), grid.value(IVec3::MAX));
-    }
-});
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| harness::vdb_load(data));

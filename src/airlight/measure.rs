@@ -3,9 +3,9 @@
 
 use super::{AirlightMode, AirlightOptions, AirlightReport, Layout, Measured, TargetRow};
 use super::{DISTANCES, EA_BRIGHT, EA_DARK, EA_EMISSION};
-use crate::color::Rgb;
-use crate::image_io::Image;
+use crate::film::image_io::Image;
 use crate::integrator::Scene;
+use crate::math::color::Rgb;
 use crate::math::Vec2;
 use std::fmt::Write as _;
 

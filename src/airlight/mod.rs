@@ -28,9 +28,9 @@ mod plot;
 use measure::{csv, measure, table};
 pub use measure::{fit_sigma_t, koschmieder};
 
-use crate::color::Rgb;
 use crate::error::{Error, Result};
-use crate::image_io;
+use crate::film::image_io;
+use crate::math::color::Rgb;
 use crate::math::Vec2;
 use crate::render::{render, RenderOptions};
 use std::fmt::Write as _;
@@ -281,6 +281,40 @@ pub fn scene_text(options: &AirlightOptions) -> String {
     s
 }
 
+/// The files `brume airlight --out DIR` writes into DIR.
+pub const OUTPUT_FILES: [&str; 5] = [
+    "airlight.exr",
+    "airlight.png",
+    "airlight.csv",
+    "airlight_plot.png",
+    "airlight.toml",
+];
+
+/// Before rendering: `dir` is a folder (created if missing) and its five
+/// output files pass the output-safety rule (writable, five different files).
+fn prepare_outputs(dir: &Path) -> Result<()> {
+    let flag = || "--out".to_string();
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::Argument {
+            argument: flag(),
+            message: format!(
+                "{} exists and is not a folder; airlight writes {} files into a folder",
+                dir.display(),
+                OUTPUT_FILES.len()
+            ),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::Argument {
+        argument: flag(),
+        message: format!("cannot create the folder {}: {e}", dir.display()),
+    })?;
+    let mut plan = crate::render::output_safety::Plan::new("airlight demo");
+    for name in OUTPUT_FILES {
+        plan.output("--out", &dir.join(name), None);
+    }
+    plan.check()
+}
+
 /// Renders the demo, measures every target, fits σt and writes the outputs.
 pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
     let argument = |a: &str, m: &str| Error::Argument {
@@ -313,21 +347,17 @@ pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
         threads: options.threads,
         progress: options.progress,
     };
+    if let Some(dir) = &options.out {
+        prepare_outputs(dir)?;
+    }
     let out = render(&scene, &render_options, &AtomicBool::new(false));
     let mut report = measure(&scene, &out.image, options);
     report.render_seconds = out.elapsed.as_secs_f64();
     report.table = table(&report);
     if let Some(dir) = &options.out {
-        std::fs::create_dir_all(dir).map_err(|e| Error::Output {
-            path: dir.clone(),
-            message: e.to_string(),
-        })?;
         let write_text = |name: &str, body: &str| -> Result<PathBuf> {
             let path = dir.join(name);
-            std::fs::write(&path, body).map_err(|e| Error::Output {
-                path: path.clone(),
-                message: e.to_string(),
-            })?;
+            image_io::write_text(&path, body)?;
             Ok(path)
         };
         let exr = dir.join("airlight.exr");

@@ -100,6 +100,28 @@ fn luminance_panel<DB: DrawingBackend>(
         .label_style((FONT, 15))
         .axis_desc_style((FONT, 17))
         .draw()?;
+    draw_laws(&mut chart, report, l_air)?;
+    draw_measurements(&mut chart, report)?;
+    chart
+        .configure_series_labels()
+        .label_font((FONT, 14))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+}
+
+/// The luminance panel's chart: distance (log) against luminance.
+type LuminanceChart<'a, DB> =
+    ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, plotters::coord::types::RangedCoordf64>>;
+
+/// Koschmieder's law with the true σt and with the fitted one, and the horizon's airlight.
+fn draw_laws<DB: DrawingBackend>(
+    chart: &mut LuminanceChart<'_, DB>,
+    report: &AirlightReport,
+    l_air: f64,
+) -> DrawResult<DB> {
+    let (b0, d0) = l0_pair(report);
     let s_true = report.sigma_t_true;
     for (l0, colour, name) in [(b0, BRIGHT, "bright"), (d0, DARK, "dark")] {
         chart
@@ -137,6 +159,14 @@ fn luminance_panel<DB: DrawingBackend>(
         ))?
         .label(format!("L_air at the horizon = {l_air:.4}"))
         .legend(|(x, y)| PathElement::new([(x, y), (x + 24, y)], AIR.stroke_width(2)));
+    Ok(())
+}
+
+/// The measured targets with ±2 standard error bars.
+fn draw_measurements<DB: DrawingBackend>(
+    chart: &mut LuminanceChart<'_, DB>,
+    report: &AirlightReport,
+) -> DrawResult<DB> {
     for (bright, colour, name) in [(true, BRIGHT, "bright"), (false, DARK, "dark")] {
         let pts = points(report, bright);
         chart.draw_series(pts.iter().map(|&(d, l, se)| {
@@ -150,13 +180,7 @@ fn luminance_panel<DB: DrawingBackend>(
             .label(format!("measured {name} targets, ±2 SE"))
             .legend(move |(x, y)| Circle::new((x + 12, y), 5, colour.filled()));
     }
-    chart
-        .configure_series_labels()
-        .label_font((FONT, 14))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
+    Ok(())
 }
 
 /// Koschmieder's law with the fitted σt through the nearest column, per target kind.
@@ -232,7 +256,7 @@ mod tests {
     use super::*;
 
     use crate::airlight::TargetRow;
-    use crate::color::Rgb;
+    use crate::math::color::Rgb;
 
     #[test]
     fn the_bundled_font_parses() {

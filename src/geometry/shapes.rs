@@ -145,67 +145,13 @@ impl Primitive {
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<PrimitiveHit> {
         match *self {
             Primitive::Sphere { center, radius } => {
-                let oc = ray.origin - center;
-                let b = oc.dot(ray.direction);
-                // Subtracting the projected part first keeps precision for distant spheres.
-                let perp = oc - b * ray.direction;
-                let disc = radius * radius - perp.length_squared();
-                if disc < 0.0 {
-                    return None;
-                }
-                let root = disc.sqrt();
-                let q = -b - root.copysign(b);
-                let c = oc.length_squared() - radius * radius;
-                let (mut t0, mut t1) = (q, if q != 0.0 { c / q } else { -b + root });
-                if t0 > t1 {
-                    std::mem::swap(&mut t0, &mut t1);
-                }
-                let t = if t0 > t_min { t0 } else { t1 };
-                if t <= t_min || t >= t_max {
-                    return None;
-                }
-                let n = (ray.at(t) - center) / radius;
-                Some(PrimitiveHit {
-                    t,
-                    geometric_normal: n,
-                    shading_normal: n,
-                    st: Vec2::ZERO,
-                })
+                intersect_sphere(ray, center, radius, t_min, t_max)
             }
             Primitive::Parallelogram {
                 corner,
                 edge_u,
                 edge_v,
-            } => {
-                let n = edge_u.cross(edge_v);
-                let denom = n.dot(ray.direction);
-                if denom == 0.0 {
-                    return None;
-                }
-                let t = n.dot(corner - ray.origin) / denom;
-                if !(t > t_min && t < t_max) {
-                    return None;
-                }
-                let d = ray.at(t) - corner;
-                let uu = edge_u.length_squared();
-                let vv = edge_v.length_squared();
-                let uv = edge_u.dot(edge_v);
-                let du = d.dot(edge_u);
-                let dv = d.dot(edge_v);
-                let det = uu * vv - uv * uv;
-                let s = (du * vv - dv * uv) / det;
-                let r = (dv * uu - du * uv) / det;
-                if !(0.0..=1.0).contains(&s) || !(0.0..=1.0).contains(&r) {
-                    return None;
-                }
-                let n = n.normalize();
-                Some(PrimitiveHit {
-                    t,
-                    geometric_normal: n,
-                    shading_normal: n,
-                    st: Vec2::new(s, r),
-                })
-            }
+            } => intersect_parallelogram(ray, corner, [edge_u, edge_v], t_min, t_max),
             Primitive::Triangle { p, n } => intersect_triangle(ray, &p, &n, t_min, t_max),
         }
     }
@@ -255,6 +201,82 @@ pub fn sphere_uv(n: Vec3) -> Vec2 {
         phi * (0.5 * std::f32::consts::FRAC_1_PI),
         1.0 - theta * std::f32::consts::FRAC_1_PI,
     )
+}
+
+/// Closest hit of a sphere in `(t_min, t_max)`.
+#[inline]
+fn intersect_sphere(
+    ray: &Ray,
+    center: Vec3,
+    radius: f32,
+    t_min: f32,
+    t_max: f32,
+) -> Option<PrimitiveHit> {
+    let oc = ray.origin - center;
+    let b = oc.dot(ray.direction);
+    // Subtracting the projected part first keeps precision for distant spheres.
+    let perp = oc - b * ray.direction;
+    let disc = radius * radius - perp.length_squared();
+    if disc < 0.0 {
+        return None;
+    }
+    let root = disc.sqrt();
+    let q = -b - root.copysign(b);
+    let c = oc.length_squared() - radius * radius;
+    let (mut t0, mut t1) = (q, if q != 0.0 { c / q } else { -b + root });
+    if t0 > t1 {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    let t = if t0 > t_min { t0 } else { t1 };
+    if t <= t_min || t >= t_max {
+        return None;
+    }
+    let n = (ray.at(t) - center) / radius;
+    Some(PrimitiveHit {
+        t,
+        geometric_normal: n,
+        shading_normal: n,
+        st: Vec2::ZERO,
+    })
+}
+
+/// Hit of the parallelogram `corner + s·edge_u + r·edge_v`, (s, r) ∈ [0, 1]², in `(t_min, t_max)`.
+#[inline]
+fn intersect_parallelogram(
+    ray: &Ray,
+    corner: Vec3,
+    [edge_u, edge_v]: [Vec3; 2],
+    t_min: f32,
+    t_max: f32,
+) -> Option<PrimitiveHit> {
+    let n = edge_u.cross(edge_v);
+    let denom = n.dot(ray.direction);
+    if denom == 0.0 {
+        return None;
+    }
+    let t = n.dot(corner - ray.origin) / denom;
+    if !(t > t_min && t < t_max) {
+        return None;
+    }
+    let d = ray.at(t) - corner;
+    let uu = edge_u.length_squared();
+    let vv = edge_v.length_squared();
+    let uv = edge_u.dot(edge_v);
+    let du = d.dot(edge_u);
+    let dv = d.dot(edge_v);
+    let det = uu * vv - uv * uv;
+    let s = (du * vv - dv * uv) / det;
+    let r = (dv * uu - du * uv) / det;
+    if !(0.0..=1.0).contains(&s) || !(0.0..=1.0).contains(&r) {
+        return None;
+    }
+    let n = n.normalize();
+    Some(PrimitiveHit {
+        t,
+        geometric_normal: n,
+        shading_normal: n,
+        st: Vec2::new(s, r),
+    })
 }
 
 /// Möller–Trumbore ray/triangle test with interpolated shading normals.

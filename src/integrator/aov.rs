@@ -23,8 +23,8 @@
 
 use super::tracking::{sample_free_flight, FreeFlight};
 use super::Scene;
-use crate::color::Rgb;
 use crate::material::Material;
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 use crate::sampling::{PixelStreams, Sampler};
 
@@ -66,6 +66,15 @@ impl Aov {
             Aov::Normal => "normal",
             Aov::Albedo => "albedo",
             Aov::Transmittance => "transmittance",
+        }
+    }
+
+    /// The value of a pixel where no sample has one: +∞ for the depth
+    /// (nothing met), 0 for the others.
+    pub fn empty_value(self) -> f32 {
+        match self {
+            Aov::Depth => f32::INFINITY,
+            _ => 0.0,
         }
     }
 
@@ -215,18 +224,24 @@ impl AovPixel {
         self.count += 1;
     }
 
-    /// The pixel's value of `aov`, one entry per channel of `aov.channels()`.
-    pub fn value(&self, aov: Aov, out: &mut Vec<f32>) {
-        let n = self.count.max(1) as f64;
-        let mean3 = |v: &[f64; 3], out: &mut Vec<f32>| out.extend(v.iter().map(|x| (x / n) as f32));
-        match aov {
-            Aov::Alpha => out.push((self.alpha / n) as f32),
-            Aov::Depth if self.depth_hits == 0 => out.push(f32::INFINITY),
-            Aov::Depth => out.push((self.depth / self.depth_hits as f64) as f32),
-            Aov::Normal => mean3(&self.normal, out),
-            Aov::Albedo => mean3(&self.albedo, out),
-            Aov::Transmittance => mean3(&self.transmittance, out),
+    /// Adds this pixel's sums of `aov` to `sums` (one per channel of
+    /// `aov.channels()`) and its denominator to `count`: the samples kept,
+    /// or for the depth the samples that met a first vertex.
+    pub fn add_into(&self, aov: Aov, sums: &mut [f64], count: &mut u32) {
+        let values: &[f64] = match aov {
+            Aov::Alpha => std::slice::from_ref(&self.alpha),
+            Aov::Depth => std::slice::from_ref(&self.depth),
+            Aov::Normal => &self.normal,
+            Aov::Albedo => &self.albedo,
+            Aov::Transmittance => &self.transmittance,
+        };
+        for (sum, v) in sums.iter_mut().zip(values) {
+            *sum += v;
         }
+        *count += match aov {
+            Aov::Depth => self.depth_hits,
+            _ => self.count,
+        };
     }
 }
 
@@ -249,9 +264,6 @@ mod tests {
     #[test]
     fn a_pixel_drops_samples_with_any_non_finite_value() {
         let mut px = AovPixel::default();
-        let mut out = Vec::new();
-        px.value(Aov::Depth, &mut out);
-        assert_eq!(out, [f32::INFINITY]);
         px.add(&finite_sample());
         let bad = [
             AovSample {
@@ -280,9 +292,10 @@ mod tests {
             assert_eq!(px.count, 1, "sample {k} was kept");
         }
         for aov in Aov::ALL {
-            out.clear();
-            px.value(aov, &mut out);
-            assert!(out.iter().all(|v| v.is_finite()), "{aov:?}: {out:?}");
+            let (mut sums, mut count) = ([0.0; 3], 0);
+            px.add_into(aov, &mut sums, &mut count);
+            assert_eq!(count, 1, "{aov:?}");
+            assert!(sums.iter().all(|v| v.is_finite()), "{aov:?}: {sums:?}");
         }
     }
 }

@@ -2,10 +2,10 @@
 
 use super::equiangular::{free_flight_weight, Segment};
 use super::Scene;
-use crate::color::Rgb;
 use crate::geometry::SurfaceHit;
 use crate::light::LightSample;
 use crate::material::{Material, Shading};
+use crate::math::color::Rgb;
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::PhaseFunction;
 use crate::sampling::{power_heuristic, Sampler};

@@ -20,7 +20,7 @@
 //! segments (global media, height fog) are thus covered where they light up.
 
 use super::Scene;
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 use crate::sampling::equiangular::{equiangular_pdf, sample_equiangular};
 use crate::sampling::Sampler;

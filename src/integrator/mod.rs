@@ -13,14 +13,14 @@ mod equiangular;
 pub mod tracking;
 
 use crate::camera::Camera;
-use crate::color::Rgb;
 use crate::geometry::{Geometry, SurfaceHit};
 use crate::light::{Light, LightPick};
+use crate::material::texture::Texture;
 use crate::material::{Material, Shading};
+use crate::math::color::Rgb;
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
 use crate::sampling::{power_heuristic, PixelStreams, Sampler, SamplerKind};
-use crate::texture::Texture;
 use direct::{direct_light, Vertex};
 pub use tracking::TransmittanceEstimator;
 use tracking::{sample_free_flight, FreeFlight};

@@ -30,7 +30,7 @@
 //!   render reports how many rays hit the cap, as it reports non-finite
 //!   samples. No scene of the test suite comes near it.
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::Ray;
 use crate::medium::{HomogeneousMedium, MajorantIter, MajorantSegment, Medium, MediumProperties};
 use crate::sampling::Sampler;
@@ -431,6 +431,19 @@ pub fn sample_free_flight(
             free_flight_one(m, tracker, ray, t_max, throughput, radiance, sampler)
         });
     }
+    free_flight_overlapping(media, ray, t_max, throughput, radiance, sampler)
+}
+
+/// Decomposition tracking through several media: the earliest of their
+/// tentative collisions is classified with its own medium's coefficients.
+fn free_flight_overlapping(
+    media: &[Medium],
+    ray: &Ray,
+    t_max: f32,
+    throughput: &mut Rgb,
+    radiance: &mut Rgb,
+    sampler: &mut Sampler,
+) -> FreeFlight {
     let mut trackers: [Option<(usize, Tracker, Collision)>; MAX_OVERLAPPING_MEDIA] =
         [const { None }; MAX_OVERLAPPING_MEDIA];
     let mut count = 0;

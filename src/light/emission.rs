@@ -14,8 +14,8 @@
 //! every density here is closed form and the MIS weights need no estimate.
 
 use super::{spot_falloff, sun_radiance, Environment, Light};
-use crate::color::Rgb;
 use crate::geometry::{Geometry, Primitive};
+use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
 use std::f32::consts::FRAC_1_PI;

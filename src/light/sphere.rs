@@ -9,7 +9,7 @@
 //! to area sampling.
 
 use super::LightSample;
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -84,12 +84,12 @@ impl Cone {
 
 #[cfg(test)]
 mod tests {
-    use crate::color::Rgb;
     use crate::geometry::{Geometry, Primitive};
     use crate::light::Light;
+    use crate::material::texture::Texture;
+    use crate::math::color::Rgb;
     use crate::math::{Ray, Vec3};
     use crate::sampling::chi2::SphereChi2;
-    use crate::texture::Texture;
 
     fn sphere_light(center: Vec3, radius: f32, two_sided: bool) -> (Light, Geometry) {
         let geometry = Geometry::new(vec![(Primitive::Sphere { center, radius }, 0)]);

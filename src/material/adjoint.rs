@@ -10,7 +10,7 @@
 //! where the path tracer's ray entering it carried η² (Veach 1997, ch. 5).
 
 use super::{fresnel, relative_eta, BsdfSample, Material, Shading};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Vec2, Vec3};
 
 impl Material {

@@ -1,6 +1,6 @@
 //! Fresnel reflectance of dielectric and conductor interfaces (unpolarized light).
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::Vec3;
 
 /// Fraction of light reflected at a dielectric interface.

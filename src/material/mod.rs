@@ -7,11 +7,13 @@
 //! which side of the surface that is (dielectrics need it for η).
 
 mod adjoint;
+pub mod texture;
+
 pub mod fresnel;
 pub mod microfacet;
 mod rough;
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
 use microfacet::Ggx;

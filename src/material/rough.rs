@@ -5,7 +5,7 @@
 use super::fresnel::{self, refract};
 use super::microfacet::Ggx;
 use super::ConductorFresnel;
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Vec2, Vec3};
 
 /// A sampled direction in the local frame with its weight `f cos / pdf` and pdf.

@@ -17,7 +17,7 @@
 //! Shirley 2013, JCGT 2(2)); M is the XYZ → linear sRGB matrix of IEC 61966-2-1.
 //! T ≤ 0 emits nothing.
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 
 /// Second radiation constant c₂ = h·c/k in nm·K.
 const C2: f64 = 1.438_776_877e7;

@@ -19,16 +19,16 @@
 //! space (the direction is mapped, not renormalized), so the majorant
 //! segments found there apply to the world ray unchanged.
 
-use glam::{DMat4, IVec3, Mat4};
+use glam::{IVec3, Mat4};
 
 use super::blackbody::BlackbodyTable;
 use super::majorant_grid::{Dda, MajorantGrid};
 use super::motion::{self, GridMotion, MotionLookup};
 use super::voxel::VoxelWalk;
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Affine3A, Bounds3, Ray, Vec3};
-use crate::volume::{FloatGrid, GridTransform};
+use crate::volume::FloatGrid;
 
 /// How tracking bounds the density along a ray.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -154,14 +154,7 @@ pub struct GridMedium {
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
 fn index_map(grid: &FloatGrid, to_world: &Affine3A) -> Affine3A {
-    index_map_of(grid.transform(), to_world)
-}
-
-/// World → index map of a grid with index → world map `transform` placed by `to_world`.
-pub(crate) fn index_map_of(transform: &GridTransform, to_world: &Affine3A) -> Affine3A {
-    let m = Mat4::from(*to_world).as_dmat4() * transform.index_to_world_matrix();
-    let inv: DMat4 = m.inverse();
-    Affine3A::from_mat4(inv.as_mat4())
+    grid.transform().world_to_index_placed(to_world)
 }
 
 /// Majorant cell size in voxels: about 32 cells along the longest axis, kept within 4..=32.
@@ -540,6 +533,7 @@ impl Iterator for GridMajorants<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::volume::GridTransform;
 
     /// About 32 cells along the longest axis, kept within 4..=32 voxels a cell.
     #[test]

@@ -22,7 +22,7 @@
 //! estimator agrees with the optical depth exactly.
 
 use super::{MajorantSegment, MediumProperties, PhaseFunction};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 
 /// Above this many scale heights over h0 the fog is treated as empty (e^-40 ≈ 4e-18).

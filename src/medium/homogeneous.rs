@@ -10,7 +10,7 @@
 //! ```
 
 use super::{MajorantSegment, MediumProperties, PhaseFunction, Region};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 
 /// Constant σa, σs, emission and phase inside a region.

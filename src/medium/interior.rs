@@ -44,8 +44,8 @@
 //! the render summary reports the count, so the bias is never silent.
 
 use super::{GridMedium, HomogeneousMedium, MajorantSegment, MediumProperties, Region};
-use crate::color::Rgb;
 use crate::geometry::closed::{ClosedMesh, MAX_CROSSINGS};
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 use std::cell::Cell;
 use std::sync::Arc;

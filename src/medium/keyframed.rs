@@ -52,7 +52,7 @@
 //! one keyframe evaluation per ray and one per lookup.
 
 use super::{MajorantIter, Medium, MediumProperties};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::keyframes::Keyframes;
 use crate::math::{Ray, Vec3};
 

@@ -27,7 +27,7 @@ pub use motion::GridMotion;
 pub use phase::{PhaseFunction, PhaseSample};
 pub use region::Region;
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 
 /// Coefficients of a medium at one point.

@@ -110,7 +110,7 @@ impl MotionLookup {
         to_world: &Affine3A,
         density_world_to_index: &Affine3A,
     ) -> (MotionLookup, Vec3) {
-        let world_to_index = super::grid::index_map_of(motion.velocity.transform(), to_world);
+        let world_to_index = motion.velocity.transform().world_to_index_placed(to_world);
         let step = Mat3::from(to_world.matrix3) * motion.scale;
         let b = Mat3::from(density_world_to_index.matrix3) * step;
         let v = motion.velocity.max_abs_lookup();

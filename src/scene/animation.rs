@@ -148,6 +148,16 @@ fn frames_on_disk(pattern: &Path) -> Vec<i64> {
     frames
 }
 
+/// Every file of a pattern's sequence on disk: all the files any frame can
+/// read through it, whatever the frame offset and `missing_frames`.
+pub fn sequence_files(pattern: &Path) -> Vec<PathBuf> {
+    frames_on_disk(pattern)
+        .into_iter()
+        .map(|n| substitute(pattern, n))
+        .filter(|p| p.exists())
+        .collect()
+}
+
 /// The file a pattern names for `frame` (plus the offset), following the
 /// missing-frame behaviour; the error names the missing file.
 pub fn resolve_frame(
@@ -158,6 +168,12 @@ pub fn resolve_frame(
 ) -> Result<PathBuf, String> {
     let wanted = frame + offset;
     let path = substitute(pattern, wanted);
+    if path.exists() {
+        // There but not readable (a FIFO, device or folder): say what it is, not "missing".
+        if let Err(problem) = crate::error::regular_file(&path) {
+            return Err(format!("frame {frame}: {}: {problem}", path.display()));
+        }
+    }
     if path.is_file() || missing == MissingFrames::Error {
         return if path.is_file() {
             Ok(path)

@@ -2,8 +2,8 @@
 
 use super::description::Color;
 use super::validate::Check;
-use crate::envmap::EnvMap;
 use crate::error::Result;
+use crate::light::envmap::EnvMap;
 use crate::math::Quat;
 use std::path::Path;
 
@@ -16,13 +16,13 @@ pub(super) fn build(
     rotate: Option<[f32; 3]>,
 ) -> Result<EnvMap> {
     let file_field = format!("{field}.file");
-    if !path.is_file() {
+    if let Err(problem) = crate::error::regular_file(path) {
         return Err(check.error(
             &file_field,
-            format!("environment map {} not found", path.display()),
+            format!("cannot read environment map {}: {problem}", path.display()),
         ));
     }
-    let (width, height, texels) = crate::image_io::read_exr(path).map_err(|e| {
+    let (width, height, texels) = crate::film::image_io::read_exr(path).map_err(|e| {
         check.error(
             &file_field,
             format!("cannot read environment map {}: {e}", path.display()),

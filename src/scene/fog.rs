@@ -3,8 +3,8 @@
 use super::description::{Color, MediumDesc};
 use super::media::{build_phase, coefficients};
 use super::validate::Check;
-use crate::color::Rgb;
 use crate::error::Result;
+use crate::math::color::Rgb;
 use crate::medium::height_fog::sigma_t_from_visibility;
 use crate::medium::{HeightFog, Medium};
 

@@ -15,10 +15,10 @@ use super::description::{MediumDesc, ShapeDesc, ShapeType};
 use super::media::{build_phase, coefficients, warn_inert_emission};
 use super::shapes::build_transform;
 use super::validate::Check;
-use crate::color::Rgb;
 use crate::error::Result;
 use crate::geometry::closed::ClosedMesh;
 use crate::geometry::Primitive;
+use crate::math::color::Rgb;
 use crate::math::{Affine3A, Bounds3, Vec3};
 use crate::medium::{
     HomogeneousMedium, InteriorContent, InteriorMedium, Medium, Region, ShapeMask,

@@ -1,6 +1,6 @@
 //! `transform` tables: one placement, or keyframes (`math::keyframes`).
 
-use super::description::TransformDesc;
+use super::description::{KeyframeDesc, TransformDesc};
 use super::validate::Check;
 use crate::error::Result;
 use crate::math::keyframes::{Key, Keyframes};
@@ -90,6 +90,26 @@ pub(crate) fn build_placement(
             "needs at least one key, e.g. { time = 0.0, translate = [0.0, 0.0, 0.0] }",
         ));
     }
+    let built = build_keys(keys, &prefix, check)?;
+    let first = built[0];
+    let same = |k: &Key| {
+        (k.translate, k.rotation, k.scale) == (first.translate, first.rotation, first.scale)
+    };
+    if built.iter().all(same) {
+        // Built as `transform = { ... }` with the first key's values: the same bits.
+        return Ok(Placed::Still(Affine3A::from_scale_rotation_translation(
+            first.scale,
+            first.rotation,
+            first.translate,
+        )));
+    }
+    Ok(Placed::Moving(
+        Keyframes::new(&built).expect("keys checked in increasing time"),
+    ))
+}
+
+/// The keys of `prefix.keyframes`, each checked, in strictly increasing time.
+fn build_keys(keys: &[KeyframeDesc], prefix: &str, check: &Check) -> Result<Vec<Key>> {
     let mut built = Vec::with_capacity(keys.len());
     for (i, k) in keys.iter().enumerate() {
         let key_field = format!("{prefix}.keyframes[{i}]");
@@ -110,21 +130,7 @@ pub(crate) fn build_placement(
             scale,
         });
     }
-    let first = built[0];
-    let same = |k: &Key| {
-        (k.translate, k.rotation, k.scale) == (first.translate, first.rotation, first.scale)
-    };
-    if built.iter().all(same) {
-        // Built as `transform = { ... }` with the first key's values: the same bits.
-        return Ok(Placed::Still(Affine3A::from_scale_rotation_translation(
-            first.scale,
-            first.rotation,
-            first.translate,
-        )));
-    }
-    Ok(Placed::Moving(
-        Keyframes::new(&built).expect("keys checked in increasing time"),
-    ))
+    Ok(built)
 }
 
 /// The placement of `field.transform`, refusing keyframes where `what` cannot move.

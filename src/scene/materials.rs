@@ -2,9 +2,9 @@
 
 use super::description::Color;
 use super::validate::Check;
-use crate::color::Rgb;
 use crate::error::Result;
 use crate::material::{ConductorFresnel, Material, MIN_ALPHA};
+use crate::math::color::Rgb;
 
 /// A GGX α: 0 for a smooth surface, else in [MIN_ALPHA, 1].
 fn alpha(check: &Check, field: &str, a: f32) -> Result<f32> {
@@ -73,8 +73,8 @@ pub(super) fn conductor(
 
 #[cfg(test)]
 mod tests {
-    use crate::color::Rgb;
     use crate::material::ConductorFresnel;
+    use crate::math::color::Rgb;
 
     #[test]
     fn f0_of_one_is_a_perfect_reflector_at_every_angle() {

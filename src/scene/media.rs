@@ -3,8 +3,8 @@
 use super::description::{BoundsDesc, MediumDesc, PhaseDesc};
 use super::shapes::build_transform;
 use super::validate::Check;
-use crate::color::Rgb;
 use crate::error::Result;
+use crate::math::color::Rgb;
 use crate::math::Bounds3;
 use crate::medium::{HomogeneousMedium, Medium, PhaseFunction, Region};
 use std::path::Path;

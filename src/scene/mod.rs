@@ -5,6 +5,7 @@ pub mod animation;
 pub mod description;
 mod envmap;
 mod fog;
+pub mod inputs;
 mod interior;
 mod keyframes;
 mod materials;
@@ -15,15 +16,15 @@ mod validate;
 pub mod vdb;
 
 use crate::camera::{Camera, FovAxis};
-use crate::color::Rgb;
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light, LightPick};
+use crate::material::texture::Texture;
 use crate::material::Material;
+use crate::math::color::Rgb;
 use crate::sampling::SamplerKind;
-use crate::texture::Texture;
 use description::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
 use std::path::{Path, PathBuf};
 use validate::Check;
@@ -37,7 +38,7 @@ pub fn load(path: &Path) -> Result<Scene> {
 pub struct Loaded {
     /// The scene.
     pub scene: Scene,
-    /// Every file the scene reads: the scene file, its OBJ, texture and VDB files.
+    /// Every file the scene reads: the scene file, its OBJ, texture, environment map and VDB files.
     pub inputs: Vec<PathBuf>,
     /// Warnings, each `FILE: FIELD: message`: valid values that probably are not what was meant.
     pub warnings: Vec<String>,
@@ -54,34 +55,10 @@ pub fn load_frame_with_inputs(path: &Path, frame: Option<i64>) -> Result<Loaded>
     let desc = parse(&text, path)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let (scene, warnings) = build_frame(&desc, path, &base, frame)?;
-    let frame_file = |file: PathBuf| match frame {
-        Some(f) if animation::has_pattern(&file) => animation::resolve_frame(
-            &file,
-            f,
-            desc.animation.frame_offset,
-            desc.animation.missing_frames,
-        )
-        .unwrap_or(file),
-        _ => file,
-    };
-    let mut inputs = vec![path.to_path_buf()];
-    inputs.extend(
-        desc.shapes
-            .iter()
-            .filter_map(|s| s.file.as_ref())
-            .map(|f| resolve(&base, f)),
-    );
-    inputs.extend(
-        desc.shapes
-            .iter()
-            .flat_map(|s| s.texture_files())
-            .map(|f| resolve(&base, f)),
-    );
-    let interiors = desc.shapes.iter().filter_map(|s| s.interior.as_ref());
-    inputs.extend(desc.media.iter().chain(interiors).filter_map(|m| match m {
-        description::MediumDesc::Vdb(v) => Some(frame_file(resolve(&base, &v.file))),
-        _ => None,
-    }));
+    let inputs = inputs::files_read(&desc, path, frame)
+        .into_iter()
+        .map(|f| f.path)
+        .collect();
     Ok(Loaded {
         scene,
         inputs,

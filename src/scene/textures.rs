@@ -4,10 +4,10 @@
 use super::description::{Color, ColorOrTexture, TextureDesc, UvScale};
 use super::resolve;
 use super::validate::Check;
-use crate::color::{srgb_to_linear, Rgb};
 use crate::error::Result;
+use crate::material::texture::{Image, Texture, Wrap};
+use crate::math::color::{srgb_to_linear, Rgb};
 use crate::math::Vec2;
-use crate::texture::{Image, Texture, Wrap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -241,7 +241,7 @@ fn read_png_texels(
     path: &Path,
     srgb: bool,
 ) -> std::result::Result<(usize, usize, Vec<Rgb>), String> {
-    let png = crate::image_io::read_png(path).map_err(|e| match e {
+    let png = crate::film::image_io::read_png(path).map_err(|e| match e {
         crate::error::Error::Input { message, .. } => message,
         other => other.to_string(),
     })?;
@@ -271,7 +271,7 @@ fn read_png_texels(
 /// Texels of an EXR: channels R, G, B, or Y alone for grey.
 fn read_exr_texels(path: &Path) -> std::result::Result<(usize, usize, Vec<Rgb>), String> {
     let (width, height, channels) =
-        crate::image_io::read_exr_channels(path).map_err(|e| match e {
+        crate::film::image_io::read_exr_channels(path).map_err(|e| match e {
             crate::error::Error::Input { message, .. } => message,
             other => other.to_string(),
         })?;

@@ -1,7 +1,7 @@
 //! Value checks that turn bad numbers into errors naming the file and field.
 
-use crate::color::Rgb;
 use crate::error::Error;
+use crate::math::color::Rgb;
 use crate::math::Vec3;
 use crate::scene::description::Color;
 use std::path::{Path, PathBuf};

@@ -30,8 +30,8 @@ use super::animation::{self, Timing};
 use super::description::{Color, PhaseDesc, TransformDesc};
 use super::media::build_phase;
 use super::validate::Check;
-use crate::color::Rgb;
 use crate::error::Result;
+use crate::math::color::Rgb;
 use crate::medium::{GridEmission, GridMedium, GridMediumParams, GridMotion, MajorantMode, Medium};
 use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid, VolumeError, MAX_VDB_BYTES};
 

@@ -80,68 +80,104 @@ fn le32(b: &[u8], at: usize) -> Result<u32, String> {
         .ok_or_else(|| format!("blosc frame truncated at offset {at}"))
 }
 
+/// Size of a blosc1 frame's header.
+const BLOSC_HEADER: usize = 16;
+
 /// Decodes a blosc1 frame into exactly `out.len()` bytes.
 fn blosc_decompress(src: &[u8], out: &mut [u8]) -> Result<(), String> {
-    const HEADER: usize = 16;
-    if src.len() < HEADER {
-        return Err("blosc frame shorter than its header".into());
-    }
-    let flags = src[2];
-    let typesize = src[3].max(1) as usize;
-    let nbytes = le32(src, 4)? as usize;
-    let blocksize = le32(src, 8)? as usize;
-    let cbytes = le32(src, 12)? as usize;
-    if nbytes != out.len() {
-        return Err(format!(
-            "blosc frame holds {nbytes} bytes, expected {}",
-            out.len()
-        ));
-    }
-    if cbytes > src.len() {
-        return Err(format!(
-            "blosc frame claims {cbytes} bytes, chunk has {}",
-            src.len()
-        ));
-    }
-    let src = &src[..cbytes];
-    if nbytes == 0 {
+    let Some((frame, src)) = BloscFrame::parse(src, out.len())? else {
         return Ok(());
-    }
-    if flags & 0x2 != 0 {
+    };
+    if frame.flags & 0x2 != 0 {
         // memcpyed: the data follows the header as is.
         let body = src
-            .get(HEADER..HEADER + nbytes)
+            .get(BLOSC_HEADER..BLOSC_HEADER + frame.nbytes)
             .ok_or("blosc memcpy frame truncated")?;
         out.copy_from_slice(body);
         return Ok(());
     }
-    if blocksize == 0 {
+    if frame.blocksize == 0 {
         return Err("blosc block size is zero".into());
     }
-    if flags & 0x4 != 0 {
+    if frame.flags & 0x4 != 0 {
         return Err("blosc bit-shuffle is not supported".into());
     }
-    let codec = flags >> 5;
-    let dont_split = flags & 0x10 != 0;
-    let shuffle = flags & 0x1 != 0 && typesize > 1;
-    let nblocks = nbytes.div_ceil(blocksize);
+    let shuffle = frame.flags & 0x1 != 0 && frame.typesize > 1;
+    let (nbytes, blocksize) = (frame.nbytes, frame.blocksize);
     let mut tmp = vec![0u8; blocksize.min(nbytes)];
-    for j in 0..nblocks {
+    for j in 0..nbytes.div_ceil(blocksize) {
         let start = j * blocksize;
         let bsize = blocksize.min(nbytes - start);
-        let leftover = bsize < blocksize;
-        let mut off = le32(src, HEADER + 4 * j)? as usize;
+        let dest: &mut [u8] = if shuffle {
+            &mut tmp[..bsize]
+        } else {
+            &mut out[start..start + bsize]
+        };
+        frame.decode_block(src, j, dest)?;
+        if shuffle {
+            unshuffle(
+                frame.typesize,
+                &tmp[..bsize],
+                &mut out[start..start + bsize],
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The fields of a blosc1 header that decoding needs.
+struct BloscFrame {
+    flags: u8,
+    typesize: usize,
+    nbytes: usize,
+    blocksize: usize,
+}
+
+impl BloscFrame {
+    /// Reads the header of a frame that must decode to `expected` bytes; returns
+    /// it with the frame cut to its compressed size, or None for an empty frame.
+    fn parse(src: &[u8], expected: usize) -> Result<Option<(BloscFrame, &[u8])>, String> {
+        if src.len() < BLOSC_HEADER {
+            return Err("blosc frame shorter than its header".into());
+        }
+        let nbytes = le32(src, 4)? as usize;
+        let cbytes = le32(src, 12)? as usize;
+        if nbytes != expected {
+            return Err(format!(
+                "blosc frame holds {nbytes} bytes, expected {expected}"
+            ));
+        }
+        if cbytes > src.len() {
+            return Err(format!(
+                "blosc frame claims {cbytes} bytes, chunk has {}",
+                src.len()
+            ));
+        }
+        if nbytes == 0 {
+            return Ok(None);
+        }
+        let frame = BloscFrame {
+            flags: src[2],
+            typesize: src[3].max(1) as usize,
+            nbytes,
+            blocksize: le32(src, 8)? as usize,
+        };
+        Ok(Some((frame, &src[..cbytes])))
+    }
+
+    /// Decodes block `j` (its splits, each stored or compressed) into `dest`, the block's bytes.
+    fn decode_block(&self, src: &[u8], j: usize, dest: &mut [u8]) -> Result<(), String> {
+        let bsize = dest.len();
+        let leftover = bsize < self.blocksize;
+        let dont_split = self.flags & 0x10 != 0;
+        let typesize = self.typesize;
         let nsplits = if !dont_split && typesize <= 16 && bsize / typesize >= 128 && !leftover {
             typesize
         } else {
             1
         };
         let neblock = bsize / nsplits;
-        let dest: &mut [u8] = if shuffle {
-            &mut tmp[..bsize]
-        } else {
-            &mut out[start..start + bsize]
-        };
+        let mut off = le32(src, BLOSC_HEADER + 4 * j)? as usize;
         for s in 0..nsplits {
             let cb = le32(src, off)? as usize;
             off += 4;
@@ -152,7 +188,7 @@ fn blosc_decompress(src: &[u8], out: &mut [u8]) -> Result<(), String> {
             if cb == neblock {
                 d.copy_from_slice(chunk);
             } else {
-                match codec {
+                match self.flags >> 5 {
                     1 => lz4_block_decompress(chunk, d)?,
                     3 => zlib_decompress(chunk, d)?,
                     c => {
@@ -164,11 +200,8 @@ fn blosc_decompress(src: &[u8], out: &mut [u8]) -> Result<(), String> {
             }
             off += cb;
         }
-        if shuffle {
-            unshuffle(typesize, &tmp[..bsize], &mut out[start..start + bsize]);
-        }
+        Ok(())
     }
-    Ok(())
 }
 
 /// Undoes blosc's byte shuffle: byte `j` of element `i` was stored at `j * n + i`.

@@ -175,7 +175,6 @@ fn compression_names(c: u32) -> String {
 
 fn render_text(r: &Value) -> String {
     let mut s = String::new();
-    let v = |x: &Value| x.to_string().replace(',', ", ");
     let _ = writeln!(s, "file: {}", r["file"].as_str().unwrap_or(""));
     let _ = writeln!(
         s,
@@ -185,83 +184,113 @@ fn render_text(r: &Value) -> String {
     let grids = r["grids"].as_array().cloned().unwrap_or_default();
     let _ = writeln!(s, "grids: {}", grids.len());
     for g in &grids {
-        let name = g["name"].as_str().unwrap_or("");
-        let half = if g["saved_as_half"] == json!(true) {
-            ", stored as half"
-        } else {
-            ""
-        };
-        let _ = writeln!(s, "\ngrid '{name}'");
-        let _ = writeln!(
-            s,
-            "  type: {} ({}{half})",
-            g["value_type"].as_str().unwrap_or(""),
-            g["grid_type"].as_str().unwrap_or("")
-        );
-        if let Some(c) = g["class"].as_str() {
-            let comp = g["compression"].as_str().unwrap_or("");
-            let _ = writeln!(s, "  class: {c}, compression: {comp}");
-        }
-        if let Some(e) = g["error"].as_str() {
-            let _ = writeln!(s, "  not loadable: {e}");
-            continue;
-        }
-        let t = &g["transform"];
-        let _ = writeln!(
-            s,
-            "  transform: {}, voxel size {}",
-            t["map_type"].as_str().unwrap_or(""),
-            v(&t["voxel_size"])
-        );
-        for row in t["index_to_world"].as_array().into_iter().flatten() {
-            let _ = writeln!(s, "    {}", v(row));
-        }
-        let _ = writeln!(s, "  background: {}", plain(&g["background"]));
-        let _ = writeln!(s, "  active voxels: {}", g["active_voxel_count"]);
-        let _ = writeln!(
-            s,
-            "  leaves: {}, active tiles: {}",
-            g["leaf_count"], g["active_tile_count"]
-        );
-        match g.get("index_bbox_active") {
-            Some(bb) => {
-                let _ = writeln!(s, "  index bbox: {} -> {}", v(&bb["min"]), v(&bb["max"]));
-                let wb = &g["world_bbox"];
-                let _ = writeln!(s, "  world bbox: {} -> {}", v(&wb["min"]), v(&wb["max"]));
-            }
-            None => {
-                let _ = writeln!(s, "  index bbox: empty");
-            }
-        }
-        if let Some(r) = g.get("value_range") {
-            let _ = writeln!(s, "  value range: {} .. {}", plain(&r[0]), plain(&r[1]));
-        }
-        if let Some(r) = g["component_ranges"].as_array() {
-            for (axis, range) in ["x", "y", "z"].iter().zip(r) {
-                let _ = writeln!(
-                    s,
-                    "  {axis} range: {} .. {}",
-                    plain(&range[0]),
-                    plain(&range[1])
-                );
-            }
+        grid_text(&mut s, g);
+    }
+    s
+}
+
+/// A JSON value as text, with a space after each comma.
+fn spaced(x: &Value) -> String {
+    x.to_string().replace(',', ", ")
+}
+
+/// One grid's section of the text report: kind, then (if it loaded) placement and values.
+fn grid_text(s: &mut String, g: &Value) {
+    let name = g["name"].as_str().unwrap_or("");
+    let half = if g["saved_as_half"] == json!(true) {
+        ", stored as half"
+    } else {
+        ""
+    };
+    let _ = writeln!(s, "\ngrid '{name}'");
+    let _ = writeln!(
+        s,
+        "  type: {} ({}{half})",
+        g["value_type"].as_str().unwrap_or(""),
+        g["grid_type"].as_str().unwrap_or("")
+    );
+    if let Some(c) = g["class"].as_str() {
+        let comp = g["compression"].as_str().unwrap_or("");
+        let _ = writeln!(s, "  class: {c}, compression: {comp}");
+    }
+    if let Some(e) = g["error"].as_str() {
+        let _ = writeln!(s, "  not loadable: {e}");
+        return;
+    }
+    grid_placement_text(s, g);
+    grid_values_text(s, g);
+}
+
+/// Transform, background, voxel and leaf counts, bounding boxes.
+fn grid_placement_text(s: &mut String, g: &Value) {
+    let t = &g["transform"];
+    let _ = writeln!(
+        s,
+        "  transform: {}, voxel size {}",
+        t["map_type"].as_str().unwrap_or(""),
+        spaced(&t["voxel_size"])
+    );
+    for row in t["index_to_world"].as_array().into_iter().flatten() {
+        let _ = writeln!(s, "    {}", spaced(row));
+    }
+    let _ = writeln!(s, "  background: {}", plain(&g["background"]));
+    let _ = writeln!(s, "  active voxels: {}", g["active_voxel_count"]);
+    let _ = writeln!(
+        s,
+        "  leaves: {}, active tiles: {}",
+        g["leaf_count"], g["active_tile_count"]
+    );
+    match g.get("index_bbox_active") {
+        Some(bb) => {
             let _ = writeln!(
                 s,
-                "  largest |component| a lookup returns: {}",
-                v(&g["max_abs_lookup"])
+                "  index bbox: {} -> {}",
+                spaced(&bb["min"]),
+                spaced(&bb["max"])
+            );
+            let wb = &g["world_bbox"];
+            let _ = writeln!(
+                s,
+                "  world bbox: {} -> {}",
+                spaced(&wb["min"]),
+                spaced(&wb["max"])
+            );
+        }
+        None => {
+            let _ = writeln!(s, "  index bbox: empty");
+        }
+    }
+}
+
+/// Value ranges, value counts by kind, memory.
+fn grid_values_text(s: &mut String, g: &Value) {
+    if let Some(r) = g.get("value_range") {
+        let _ = writeln!(s, "  value range: {} .. {}", plain(&r[0]), plain(&r[1]));
+    }
+    if let Some(r) = g["component_ranges"].as_array() {
+        for (axis, range) in ["x", "y", "z"].iter().zip(r) {
+            let _ = writeln!(
+                s,
+                "  {axis} range: {} .. {}",
+                plain(&range[0]),
+                plain(&range[1])
             );
         }
         let _ = writeln!(
             s,
-            "  stored values: {}, NaN: {}, infinite: {}, negative: {}",
-            g["stored_values"], g["nan_values"], g["infinite_values"], g["negative_values"]
-        );
-        let _ = writeln!(
-            s,
-            "  memory: {} bytes ({:.2} bytes per active voxel)",
-            g["memory_bytes"],
-            g["bytes_per_active_voxel"].as_f64().unwrap_or(0.0)
+            "  largest |component| a lookup returns: {}",
+            spaced(&g["max_abs_lookup"])
         );
     }
-    s
+    let _ = writeln!(
+        s,
+        "  stored values: {}, NaN: {}, infinite: {}, negative: {}",
+        g["stored_values"], g["nan_values"], g["infinite_values"], g["negative_values"]
+    );
+    let _ = writeln!(
+        s,
+        "  memory: {} bytes ({:.2} bytes per active voxel)",
+        g["memory_bytes"],
+        g["bytes_per_active_voxel"].as_f64().unwrap_or(0.0)
+    );
 }

@@ -59,6 +59,14 @@ impl GridTransform {
         }
     }
 
+    /// World → index map of this grid placed in the world by `to_world`: the
+    /// inverse of (to_world ∘ index → world), inverted in f64.
+    pub fn world_to_index_placed(&self, to_world: &glam::Affine3A) -> glam::Affine3A {
+        let m = glam::Mat4::from(*to_world).as_dmat4() * self.index_to_world_matrix();
+        let inv: DMat4 = m.inverse();
+        glam::Affine3A::from_mat4(inv.as_mat4())
+    }
+
     /// The index→world matrix M with world = M · [i, j, k, 1].
     pub fn index_to_world_matrix(&self) -> DMat4 {
         self.forward

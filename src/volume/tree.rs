@@ -127,17 +127,7 @@ pub(crate) fn read_tree(
     };
     let num_tiles = r.u32()?;
     let num_children = r.u32()?;
-    r.check_fits(
-        num_tiles as u64,
-        13 + (lanes * elem.size()) as u64,
-        "root tiles",
-    )?;
-    for _ in 0..num_tiles {
-        let origin = read_origin(r, 12)?;
-        let value = elem.read_value(r)?;
-        let active = r.u8()? != 0;
-        t.push_tile(origin, 12, value, active);
-    }
+    t.read_root_tiles(r, num_tiles)?;
     // a root child is at least its origin and two 4 KiB masks
     r.check_fits(num_children as u64, 12 + 8192, "root children")?;
     let mut children = Vec::with_capacity(num_children as usize);
@@ -172,6 +162,23 @@ fn read_origin(r: &mut Reader, log2: u32) -> FResult<IVec3> {
 }
 
 impl TreeReader {
+    /// The root's tiles: origin, value and active flag each.
+    fn read_root_tiles(&mut self, r: &mut Reader, num_tiles: u32) -> FResult<()> {
+        let elem = self.elem;
+        r.check_fits(
+            num_tiles as u64,
+            13 + (self.lanes * elem.size()) as u64,
+            "root tiles",
+        )?;
+        for _ in 0..num_tiles {
+            let origin = read_origin(r, 12)?;
+            let value = elem.read_value(r)?;
+            let active = r.u8()? != 0;
+            self.push_tile(origin, 12, value, active);
+        }
+        Ok(())
+    }
+
     fn push_tile(&mut self, origin: IVec3, log2: u32, value: [f32; MAX_LANES], active: bool) {
         for (lane, out) in self.out.iter_mut().enumerate() {
             // inactive tiles equal to the background need no storage: lookups fall through to it
@@ -261,6 +268,30 @@ impl TreeReader {
         result
     }
 
+    /// The two values of inactive voxels a node's metadata byte implies: read from
+    /// the stream (at full precision even in half-float grids) or derived from the background.
+    fn inactive_values(
+        &self,
+        r: &mut Reader,
+        metadata: i8,
+    ) -> FResult<([f32; MAX_LANES], [f32; MAX_LANES])> {
+        let bg = self.background;
+        let mut inactive1 = bg;
+        let mut inactive0 = if metadata == 0 { bg } else { bg.map(|b| -b) };
+        if matches!(
+            metadata,
+            meta::NO_MASK_AND_ONE_INACTIVE_VAL
+                | meta::MASK_AND_ONE_INACTIVE_VAL
+                | meta::MASK_AND_TWO_INACTIVE_VALS
+        ) {
+            inactive0 = self.elem.read_value(r)?;
+            if metadata == meta::MASK_AND_TWO_INACTIVE_VALS {
+                inactive1 = self.elem.read_value(r)?;
+            }
+        }
+        Ok((inactive0, inactive1))
+    }
+
     /// `io::readCompressedValues`: a metadata byte, optional inactive values
     /// and selection mask, then the (possibly only active) values; `out`
     /// holds `lanes` components per value, interleaved.
@@ -280,20 +311,7 @@ impl TreeReader {
         }
         let lanes = self.lanes;
         let bg = self.background;
-        let mut inactive1 = bg;
-        let mut inactive0 = if metadata == 0 { bg } else { bg.map(|b| -b) };
-        if matches!(
-            metadata,
-            meta::NO_MASK_AND_ONE_INACTIVE_VAL
-                | meta::MASK_AND_ONE_INACTIVE_VAL
-                | meta::MASK_AND_TWO_INACTIVE_VALS
-        ) {
-            // stored at full precision even in half-float grids
-            inactive0 = self.elem.read_value(r)?;
-            if metadata == meta::MASK_AND_TWO_INACTIVE_VALS {
-                inactive1 = self.elem.read_value(r)?;
-            }
-        }
+        let (inactive0, inactive1) = self.inactive_values(r, metadata)?;
         let n_values = out.len() / lanes;
         let mut selection = vec![0u64; n_values / 64];
         if (meta::MASK_AND_NO_INACTIVE_VALS..=meta::MASK_AND_TWO_INACTIVE_VALS).contains(&metadata)

@@ -7,12 +7,13 @@ pub mod common;
 
 #[allow(unused_imports)]
 pub use common::{
-    assert_estimate, assert_same, assert_within, k_sigma, scene_from_str, Accumulator, Estimate,
+    assert_estimate, assert_same, assert_within, free_flight, k_sigma, scene_from_str, Accumulator,
+    Estimate, SceneText,
 };
 
-use brume::color::Rgb;
 use brume::integrator::li;
 use brume::integrator::Scene;
+use brume::math::color::Rgb;
 use brume::math::Ray;
 use brume::sampling::Sampler;
 

@@ -12,9 +12,9 @@ pub use common::{
     scene_from_str, Accumulator, Estimate,
 };
 
-use brume::color::Rgb;
 use brume::integrator::bdpt::{strategies, BdptArena};
 use brume::integrator::Scene;
+use brume::math::color::Rgb;
 
 /// Per-pixel estimates of the BDPT image over `spp` passes (sample i of
 /// every pixel with the splats of those samples: i.i.d. images).

@@ -3,15 +3,22 @@
 //! and where the test files are (`data`).
 #![allow(dead_code, clippy::needless_range_loop)]
 
-use brume::color::Rgb;
+use brume::integrator::tracking::{sample_free_flight, FreeFlight};
 use brume::integrator::{li, Scene};
+use brume::math::color::Rgb;
 use brume::math::Ray;
+use brume::medium::Medium;
 use brume::sampling::Sampler;
 use std::path::Path;
 
+pub mod cli;
 pub mod data;
 pub mod k_sigma;
+pub mod paths;
+pub mod scene_text;
 pub mod stats;
+
+pub use scene_text::SceneText;
 
 #[allow(unused_imports)]
 pub use stats::{
@@ -30,22 +37,11 @@ pub fn scene_from_str(text: &str) -> Scene {
 /// Paths are never cut short (no depth limit or roulette in practice), so
 /// the expected value of every pixel is known in closed form.
 pub fn furnace_scene(medium: &str, env: f32) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 0.0, 4.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 35.0
-        resolution = [6, 6]
-        [integrator]
-        max_depth = 100000
-        rr_depth = 100000
-        [[light]]
-        type = "environment"
-        radiance = {env}
-        {medium}
-        "#
-    )
+    SceneText::furnace_view(6)
+        .depths(100000, 100000)
+        .environment(env)
+        .raw(medium)
+        .build()
 }
 
 /// Mean and standard error of the mean of a set of samples (per channel).
@@ -99,6 +95,19 @@ pub fn estimate_ray(scene: &Scene, ray: Ray, n: usize, seed: u64) -> Estimate {
         acc.add(li(scene, ray, &mut sampler));
     }
     acc.estimate()
+}
+
+/// One free flight through `media` along `ray` up to `t_max` from unit
+/// throughput: the event, the throughput after it and the radiance it gathered.
+pub fn free_flight(
+    media: &[Medium],
+    ray: &Ray,
+    t_max: f32,
+    sampler: &mut Sampler,
+) -> (FreeFlight, Rgb, Rgb) {
+    let (mut throughput, mut radiance) = (Rgb::WHITE, Rgb::BLACK);
+    let event = sample_free_flight(media, ray, t_max, &mut throughput, &mut radiance, sampler);
+    (event, throughput, radiance)
 }
 
 /// Every sample of every pixel of the render path, in order, as bits: equal

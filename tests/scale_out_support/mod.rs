@@ -2,64 +2,31 @@
 //! reading films and comparing them.
 #![allow(dead_code)]
 
-use assert_cmd::cargo::CommandCargoExt;
+use crate::common::cli::signal_and_wait;
+use crate::common::SceneText;
 use brume::film::Film;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Child, Output};
+use std::time::Duration;
 
-/// The brume binary with no standard input and captured output.
-pub fn brume() -> Command {
-    let mut cmd = Command::cargo_bin("brume").unwrap();
-    cmd.stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    cmd
-}
+pub use crate::common::cli::brume;
 
 /// `dir/scene.toml`: the repository's smoke plume (copied to `dir/plume.vdb`)
 /// over a ground plane, 32×24 pixels, 64 spp, with smoke albedo `albedo`.
 pub fn plume_scene(dir: &Path, albedo: f32) -> PathBuf {
     let vdb = Path::new(env!("CARGO_MANIFEST_DIR")).join("volumes/smoke_plume.vdb");
     std::fs::copy(vdb, dir.join("plume.vdb")).unwrap();
-    let text = format!(
-        r#"
-[camera]
-position = [0.0, 1.1, 4.6]
-look_at = [0.0, 0.85, 0.0]
-fov = 40.0
-resolution = [32, 24]
-
-[integrator]
-spp = 64
-max_depth = 8
-
-[[light]]
-type = "sun"
-direction = [-1.0, -1.1, -0.7]
-irradiance = [3.0, 2.85, 2.6]
-
-[[light]]
-type = "sky"
-zenith = [0.25, 0.4, 0.8]
-horizon = [0.6, 0.7, 0.8]
-ground = [0.1, 0.1, 0.1]
-
-[[shape]]
-type = "quad"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 1.0, 0.0]
-size = [40.0, 40.0]
-
-[[medium]]
-type = "vdb"
-file = "plume.vdb"
-grid = "density"
-density_scale = 20.0
-albedo = {albedo}
-transform = {{ translate = [-1.02, 0.0, -1.0] }}
-"#
-    );
+    let text = SceneText::camera([0.0, 1.1, 4.6], [0.0, 0.85, 0.0], [32, 24])
+        .fov(40.0)
+        .integrator("spp = 64\nmax_depth = 8")
+        .sun([-1.0, -1.1, -0.7], [3.0, 2.85, 2.6])
+        .light("type = \"sky\"\nzenith = [0.25, 0.4, 0.8]\nhorizon = [0.6, 0.7, 0.8]\nground = [0.1, 0.1, 0.1]")
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [40.0, 40.0])
+        .medium(&format!(
+            "type = \"vdb\"\nfile = \"plume.vdb\"\ngrid = \"density\"\ndensity_scale = 20.0\n\
+             albedo = {albedo:?}\ntransform = {{ translate = [-1.02, 0.0, -1.0] }}"
+        ))
+        .build();
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, text).unwrap();
     scene
@@ -86,22 +53,8 @@ pub fn render(scene: &Path, args: &[&str], name: &str) -> PathBuf {
 }
 
 /// Sends SIGINT to `child` after `after`, then waits for it at most 60 s.
-pub fn interrupt_after(mut child: Child, after: Duration) -> Output {
-    std::thread::sleep(after);
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success(), "kill -INT failed");
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while child.try_wait().unwrap().is_none() {
-        if Instant::now() > deadline {
-            child.kill().unwrap();
-            panic!("brume did not stop within 60 s of SIGINT");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
+pub fn interrupt_after(child: Child, after: Duration) -> Output {
+    signal_and_wait(child, "INT", after, Duration::from_secs(60))
 }
 
 /// Merges `pieces` into `dir/merged.exr` with `brume merge`; returns its path.
@@ -121,7 +74,7 @@ pub fn merge(dir: &Path, pieces: &[PathBuf]) -> PathBuf {
 
 /// The film in an EXR written by brume.
 pub fn film(path: &Path) -> Film {
-    brume::image_io::read_film_exr(path).unwrap()
+    brume::film::image_io::read_film_exr(path).unwrap()
 }
 
 /// Every beauty channel mean of `film` as f32, in pixel order.

@@ -6,7 +6,7 @@ use super::positive;
 use super::vertex::{Kind, Vertex};
 use super::weights::{weight_joined, weight_s0, Context};
 use crate::camera::CameraConnection;
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{offset_origin, Ray, Vec2, Vec3};
 use crate::sampling::Sampler;
 

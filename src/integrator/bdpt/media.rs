@@ -28,8 +28,8 @@
 //! both directions give the same number and the weights sum to one exactly.
 
 use super::positive;
-use crate::color::Rgb;
 use crate::integrator::Scene;
+use crate::math::color::Rgb;
 use crate::math::{Ray, Vec3};
 use crate::medium::Medium;
 

@@ -37,10 +37,10 @@ mod weights;
 #[cfg(test)]
 mod weights_tests;
 
-use crate::color::Rgb;
 use crate::film::Splat;
 use crate::integrator::Scene;
 use crate::light::SceneSphere;
+use crate::math::color::Rgb;
 use crate::sampling::PixelStreams;
 use connect::Contribution;
 use media::Surrogate;

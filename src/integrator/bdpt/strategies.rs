@@ -10,8 +10,8 @@
 //! standard errors need, splats included.
 
 use super::{run, BdptArena, Event};
-use crate::color::Rgb;
 use crate::integrator::Scene;
+use crate::math::color::Rgb;
 
 /// One pass over the image: sample `index` of every pixel, its splats added
 /// where they land. `image` holds width × height pixels, row-major; it is

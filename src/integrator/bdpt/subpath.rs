@@ -5,11 +5,11 @@
 use super::media::Surrogate;
 use super::positive;
 use super::vertex::{Kind, Vertex};
-use crate::color::Rgb;
 use crate::integrator::tracking::{sample_free_flight, FreeFlight};
 use crate::integrator::Scene;
 use crate::light::SceneSphere;
 use crate::material::Shading;
+use crate::math::color::Rgb;
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::sampling::Sampler;
 

@@ -7,8 +7,8 @@
 //! reaches the vertex and, in a medium, the surrogate extinction there.
 
 use super::media;
-use crate::color::Rgb;
 use crate::material::{Material, Shading};
+use crate::math::color::Rgb;
 use crate::math::{Vec2, Vec3};
 use crate::medium::PhaseFunction;
 

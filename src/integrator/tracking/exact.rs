@@ -15,7 +15,7 @@
 
 use super::{collide, negligible, roulette, FreeFlight, Step, Tally, ROULETTE_THRESHOLD};
 use super::{stats, MAX_TENTATIVE_COLLISIONS};
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::Ray;
 use crate::math::Vec3;
 use crate::medium::voxel::{VoxelSpan, VoxelWalk};

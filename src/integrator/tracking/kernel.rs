@@ -4,7 +4,7 @@
 //! through [`dispatch!`], so the match on the medium's type happens once per
 //! estimator call and each loop is compiled for one concrete medium.
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::Vec3;
 use crate::medium::{GridMedium, HeightFog, HomogeneousMedium, MediumProperties, MovingMedium};
 

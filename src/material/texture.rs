@@ -13,7 +13,7 @@
 //! - texels are linear RGB f32, decoded once at scene load (8- and 16-bit
 //!   PNG through the sRGB curve unless declared linear; EXR as stored).
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::Vec2;
 use std::sync::Arc;
 

@@ -6,7 +6,7 @@
 //! is the polar angle θ = πv from +Y (row 0 is straight up), so
 //! `dir = (sinθ cosφ, cosθ, sinθ sinφ)`. Radiance is constant over a texel.
 
-use crate::color::Rgb;
+use crate::math::color::Rgb;
 use crate::math::{Quat, Vec2, Vec3};
 use crate::sampling::distribution::Distribution2D;
 use std::f32::consts::PI;

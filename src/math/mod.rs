@@ -1,5 +1,7 @@
 //! Rays, orthonormal frames, bounding boxes and small helpers over glam.
 
+pub mod color;
+
 pub mod keyframes;
 
 pub use glam::{Affine3A, Mat3, Mat4, Quat, UVec2, Vec2, Vec3, Vec3A, Vec4};

@@ -11,12 +11,12 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 use brume::error::Result;
-use brume::image_io;
+use brume::film::image_io;
 use brume::scene::animation::{has_pattern, parse_frames, substitute};
 
 use super::{
-    apply_overrides, argument, check_render_args, install_interrupt_handler, render_and_write, Job,
-    RenderArgs, EXIT_INTERRUPTED,
+    apply_overrides, argument, check_render_args, install_interrupt_handler, render_and_write,
+    warn_extensions, Job, RenderArgs, EXIT_INTERRUPTED,
 };
 
 /// The EXR and PNG patterns: the user's, or NAME.####.exr / NAME.####.png.
@@ -60,11 +60,12 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
         ));
     }
     let (exr_pattern, png_pattern) = output_patterns(args, frames.len())?;
+    check_sequence_outputs(args, &frames, &exr_pattern, &png_pattern)?;
     let cancel = install_interrupt_handler();
     let mut job = Job {
         args,
         time_budget,
-        tonemap: brume::tonemap::Tonemap::from_name(&args.tonemap)
+        tonemap: brume::film::tonemap::Tonemap::from_name(&args.tonemap)
             .ok_or_else(|| argument("--tonemap", "must be aces or clip"))?,
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: &cancel,
@@ -105,7 +106,25 @@ fn render_frame(job: &mut Job, frame: i64, exr: &Path, png: &Path) -> Result<i32
     for w in &loaded.warnings {
         eprintln!("warning: frame {frame}: {w}");
     }
-    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
+    let mut scene = loaded.scene;
     job.tonemap = apply_overrides(&mut scene, args)?;
-    render_and_write(job, (&scene, Some(frame)), &inputs, exr, png)
+    render_and_write(job, (&scene, Some(frame)), exr, png)
+}
+
+/// The output-safety rule over the whole sequence, before frame 1: no
+/// frame's output may be an input of any frame (or a frame of an input
+/// sequence), and no two outputs of the sequence may be one file.
+fn check_sequence_outputs(
+    args: &RenderArgs,
+    frames: &[i64],
+    exr_pattern: &Path,
+    png_pattern: &Path,
+) -> Result<()> {
+    let mut plan = brume::render::output_safety::Plan::new("render");
+    brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
+    plan.image_output_frames("--out", exr_pattern, frames);
+    plan.image_output_frames("--png", png_pattern, frames);
+    plan.check()?;
+    warn_extensions(exr_pattern, png_pattern);
+    Ok(())
 }

@@ -4,9 +4,9 @@
 //! and renamed over the destination only on success, so a failed or
 //! interrupted write never destroys an existing image.
 
-use crate::color::Rgb;
 use crate::error::{Error, Result};
-use crate::tonemap::Tonemap;
+use crate::film::tonemap::Tonemap;
+use crate::math::color::Rgb;
 use exr::prelude::ReadChannels as _;
 use exr::prelude::ReadLayers as _;
 use std::path::{Path, PathBuf};
@@ -71,90 +71,13 @@ fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
 }
 
-/// The file a write to `path` replaces: the end of its chain of symbolic
-/// links (even a dangling one), else `path` itself.
-pub fn destination(path: &Path) -> PathBuf {
-    let mut p = path.to_path_buf();
-    // 40 links, as the kernel allows, then give up on a loop.
-    for _ in 0..40 {
-        match std::fs::symlink_metadata(&p) {
-            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&p) {
-                Ok(target) if target.is_absolute() => p = target,
-                Ok(target) => p = p.parent().map(|d| d.join(&target)).unwrap_or(target),
-                Err(_) => break,
-            },
-            _ => break,
-        }
-    }
-    p
-}
-
-/// A comparable form of `path` (absolute, links resolved), existing or not.
-pub fn canonical(path: &Path) -> PathBuf {
-    let dest = destination(path);
-    if let Ok(c) = dest.canonicalize() {
-        return c;
-    }
-    let folder = match dest.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    match (folder.canonicalize(), dest.file_name()) {
-        (Ok(f), Some(name)) => f.join(name),
-        _ => dest,
-    }
-}
-
-/// Checks before rendering that `path` can be written: a file name (not a
-/// folder), in a folder that exists and is writable, replacing nothing but a
-/// regular file (a symbolic link is written through to its target).
-pub fn check_writable(path: &Path) -> Result<()> {
-    let bad = |m: String| Error::Argument {
-        argument: path.display().to_string(),
-        message: m,
-    };
-    let text = path.as_os_str().to_string_lossy();
-    if text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
-        return Err(bad(if path.is_dir() {
-            "is a folder; give a file name inside it".into()
-        } else {
-            "names a folder that does not exist; give a file name in an existing folder".into()
-        }));
-    }
-    let dest = destination(path);
-    if dest.is_dir() {
-        return Err(bad("is a directory".into()));
-    }
-    if let Ok(m) = std::fs::metadata(&dest) {
-        if !m.is_file() {
-            return Err(bad(
-                "exists and is not a regular file (a device, FIFO or socket); brume only replaces regular files"
-                    .into(),
-            ));
-        }
-    }
-    if let Some(folder) = dest.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if !folder.is_dir() {
-            return Err(bad(format!("folder {} does not exist", folder.display())));
-        }
-    }
-    let probe = temp_path(&dest);
-    match std::fs::File::create(&probe) {
-        Ok(_) => {
-            let _ = std::fs::remove_file(&probe);
-            Ok(())
-        }
-        Err(e) => Err(bad(format!("cannot be written: {e}"))),
-    }
-}
-
 /// Writes through `write` into a temporary file, then renames it onto `path`
 /// (onto the target of `path` when it is a symbolic link, which stays a link).
 fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> std::result::Result<(), String>,
 ) -> Result<()> {
-    let dest = destination(path);
+    let dest = crate::render::output_safety::destination(path);
     let tmp = temp_path(&dest);
     set_pending(&tmp, true);
     let result = match write(&tmp) {
@@ -169,6 +92,13 @@ fn write_atomically(
     };
     set_pending(&tmp, false);
     result
+}
+
+/// Writes `text` atomically (through a temporary file, like the images).
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    write_atomically(path, |tmp| {
+        std::fs::write(tmp, text).map_err(|e| e.to_string())
+    })
 }
 
 /// Writes a linear RGB float EXR, recording spp and completeness in the header.
@@ -204,21 +134,56 @@ pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
 
 /// True when `path` is an EXR brume wrote and marked complete (`brume:complete` = 1).
 pub fn exr_is_complete(path: &Path) -> bool {
+    matches!(brume_header(path), Some(BrumeHeader { complete: true, .. }))
+}
+
+/// What the header of an image brume wrote says about its samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BrumeHeader {
+    /// `brume:complete` = 1: the render reached its budget.
+    pub complete: bool,
+    /// `brume:spp`: samples per pixel held.
+    pub spp: u32,
+}
+
+/// The `brume:complete` and `brume:spp` attributes of the EXR at `path`;
+/// `None` for a missing file, a file that is not a regular file (never
+/// opened), not an EXR or an EXR brume did not write. Reads the header only.
+pub fn brume_header(path: &Path) -> Option<BrumeHeader> {
     use exr::meta::attribute::{AttributeValue, Text};
     use exr::meta::MetaData;
-    let Ok(meta) = MetaData::read_from_file(path, false) else {
-        return false;
+    crate::error::regular_file(path).ok()?;
+    let meta = MetaData::read_from_file(path, false).ok()?;
+    let int = |key: &str| {
+        let key = Text::from(key);
+        meta.headers.iter().find_map(|h| {
+            match h
+                .own_attributes
+                .other
+                .get(&key)
+                .or_else(|| h.shared_attributes.other.get(&key))
+            {
+                Some(AttributeValue::I32(v)) => Some(*v),
+                _ => None,
+            }
+        })
     };
-    let key = Text::from("brume:complete");
-    meta.headers.iter().any(|h| {
-        matches!(
-            h.shared_attributes.other.get(&key),
-            Some(AttributeValue::I32(1))
-        ) || matches!(
-            h.own_attributes.other.get(&key),
-            Some(AttributeValue::I32(1))
-        )
+    let complete = int("brume:complete")?;
+    let spp = u32::try_from(int("brume:spp")?).ok()?;
+    Some(BrumeHeader {
+        complete: complete == 1,
+        spp,
     })
+}
+
+/// Refuses, before opening it, an input image that is not a regular file.
+fn check_input(path: &Path, format: &str) -> Result<()> {
+    crate::error::regular_file(path)
+        .map(|_| ())
+        .map_err(|problem| Error::Input {
+            path: path.to_path_buf(),
+            message: format!("cannot read {format}: {problem}"),
+        })
 }
 
 /// One named channel of an EXR beside the beauty's R, G, B: OpenEXR layer
@@ -228,6 +193,7 @@ pub type NamedChannel = (String, Vec<f32>);
 /// Reads every channel of every layer of an EXR: width, height and the
 /// channels by their full names (a named layer's channels as `layer.channel`).
 pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>)> {
+    check_input(path, "EXR")?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -261,6 +227,7 @@ pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<NamedChannel>
 /// Reads an RGB EXR back (for tests and tools): width, height, pixels.
 pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
     use exr::prelude::read_first_rgba_layer_from_file;
+    check_input(path, "EXR")?;
     let image = read_first_rgba_layer_from_file(
         path,
         |resolution, _| {
@@ -303,6 +270,7 @@ pub fn read_png(path: &Path) -> Result<PngSamples> {
         path: path.to_path_buf(),
         message,
     };
+    check_input(path, "PNG")?;
     let file = std::fs::File::open(path).map_err(|e| input(format!("cannot read PNG: {e}")))?;
     let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
     decoder.set_transformations(png::Transformations::EXPAND);
@@ -396,7 +364,5 @@ mod tests {
         assert_eq!(pixels, image.pixels);
         let missing = dir.path().join("no/such/dir/b.exr");
         assert!(write_exr(&missing, &image).is_err());
-        assert!(check_writable(&missing).is_err());
-        assert!(check_writable(&path).is_ok());
     }
 }

@@ -21,10 +21,12 @@ pub fn scene_hash(file: &Path, settings: &Settings) -> Result<u64> {
 /// [`scene_hash`] of one frame of a sequence: the frame's own files, and the frame number.
 pub fn frame_scene_hash(file: &Path, settings: &Settings, frame: Option<i64>) -> Result<u64> {
     let read = |path: &Path| {
-        std::fs::read(path).map_err(|e| Error::Input {
+        let problem = |message: String| Error::Input {
             path: path.to_path_buf(),
-            message: format!("cannot read for the scene hash: {e}"),
-        })
+            message: format!("cannot read for the scene hash: {message}"),
+        };
+        crate::error::regular_file(path).map_err(problem)?;
+        std::fs::read(path).map_err(|e| problem(e.to_string()))
     };
     let text = read(file)?;
     let mut hash = Hasher::new();

@@ -13,7 +13,7 @@
 //! The image is sent in bands of rows so that no packet grows large.
 
 use crate::error::{Error, Result};
-use crate::image_io::Image;
+use crate::film::image_io::Image;
 use std::io::Write;
 use std::net::{TcpStream, ToSocketAddrs};
 use std::time::Duration;
@@ -159,7 +159,7 @@ impl Display {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::color::Rgb;
+    use crate::math::color::Rgb;
 
     #[test]
     fn create_image_packet_has_tevs_layout() {

@@ -7,13 +7,49 @@
 //! denoises them). The result is written as its own EXR layer
 //! (`denoised.R/G/B`); the beauty stays the unbiased estimate.
 
-use crate::color::Rgb;
+use crate::film::image_io::NamedChannel;
+use crate::film::{Film, Layer};
+use crate::math::color::Rgb;
 
 /// Channels of the denoised layer.
 pub const CHANNELS: [&str; 3] = ["denoised.R", "denoised.G", "denoised.B"];
 
 /// True when this build can denoise (the `denoise` feature is on).
 pub const AVAILABLE: bool = cfg!(feature = "denoise");
+
+/// What `--denoise` says in a build without the feature.
+pub const UNAVAILABLE: &str =
+    "this brume was built without the `denoise` feature (see docs/outputs.md)";
+
+/// The `denoised.R/G/B` channels of `film`'s beauty, guided by its albedo
+/// and normal layers (a render's, or the sums of merged pieces').
+pub fn denoise_film(film: &Film) -> Result<Vec<NamedChannel>, String> {
+    let (Some(albedo), Some(normal)) = (film.layer("albedo"), film.layer("normal")) else {
+        return Err(
+            "denoising needs the albedo and normal layers, which these pieces do not hold; \
+             render them with --denoise (or --aovs albedo,normal)"
+                .into(),
+        );
+    };
+    let n = film.window.area();
+    let means = |l: &Layer| -> [Vec<f32>; 3] {
+        std::array::from_fn(|c| (0..n).map(|i| film.mean(l, i, c)).collect())
+    };
+    let (a, nm) = (means(albedo), means(normal));
+    let image = film.beauty_image();
+    let denoised = denoise(
+        image.width,
+        image.height,
+        &image.pixels,
+        [&a[0], &a[1], &a[2]],
+        [&nm[0], &nm[1], &nm[2]],
+    )?;
+    Ok(CHANNELS
+        .iter()
+        .zip(denoised)
+        .map(|(name, values)| (name.to_string(), values))
+        .collect())
+}
 
 /// Interleaves three planar channels into RGBRGB… for OIDN.
 #[cfg_attr(not(feature = "denoise"), allow(dead_code))]

@@ -4,9 +4,9 @@
 //! B is the reference: the relative MSE divides by B. The statistics use
 //! every pixel and every channel of the first RGB layer of each file.
 
-use crate::color::Rgb;
 use crate::error::{Error, Result};
-use crate::image_io;
+use crate::film::image_io;
+use crate::math::color::Rgb;
 use std::fmt::Write as _;
 use std::path::Path;
 

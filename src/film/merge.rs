@@ -1,18 +1,28 @@
 //! `brume merge`: pieces of one render (crops and sample ranges) added into
 //! the film of the whole render, a pure function of the films.
 //!
-//! Every pixel's f64 sums and counts are added, pieces taken in order of their
-//! first sample index (then row, then column), so the result does not depend
-//! on the order the pieces are named. A crop piece holds exactly the sums the
-//! full render holds for its pixels, so crops merge bit for bit. Sample-range
-//! pieces add the same f64 samples grouped differently: the merged f64 mean
-//! differs from the single render's by f64 rounding (a relative 2⁻⁵³ per
-//! addition), so the f32 pixel equals the single render's or is its f32
-//! neighbour (at most 1 ulp apart), and then only when the exact mean falls
-//! within f64 rounding of an f32 rounding boundary.
+//! Every layer's sums and counts (the beauty's and each AOV's) and the splat
+//! sums are added, pieces taken in order of their first sample index (then
+//! row, then column), so the result does not depend on the order the pieces
+//! are named. A piece's EXR holds f32 means and exact counts (its sums are
+//! mean × count), so:
+//! - crops merge bit for bit: every pixel comes from one piece, whose mean
+//!   is written back unchanged;
+//! - sample ranges merge to within one f32 step of the single render in
+//!   every channel whose samples share a sign (beauty, alpha, depth, albedo,
+//!   transmittance): each piece's mean is off its exact value by at most
+//!   half an f32 step, a relative 2⁻²⁴, so the count-weighted merge is off
+//!   the single render's exact mean by at most a relative 2⁻²⁴, less than
+//!   one f32 step, and the two round to the same f32 or to neighbours (at an
+//!   exact power of two, where the step halves, two steps of the smaller).
+//!   The normal's samples have both signs: there the bound is 2⁻²⁴ times the
+//!   count-weighted mean of the pieces' |means|, plus one step;
+//! - a splat-carrying film's pixel is its mean plus its splat sum over the
+//!   samples per pixel; merging re-divides the summed splats by the merged
+//!   samples per pixel, exact up to the same f32 rounding of each part.
 //!
 //! Refused: pieces of different scenes (scene hash), seeds, display windows,
-//! render spp or layers; two pieces holding a sample of the same pixel; and a
+//! render spp or layers (AOVs, splats); two pieces holding a sample of the same pixel; and a
 //! pixel lacking a sample range (a missing piece). Interrupted pieces are
 //! accepted and weighted by the samples they hold; the merge is then marked
 //! incomplete and its `brume:samples_held` lists the samples every pixel holds.
@@ -25,8 +35,11 @@ use std::path::{Path, PathBuf};
 pub struct Merged {
     /// The film of the whole render.
     pub film: Film,
-    /// One line per interrupted piece.
+    /// One line per interrupted piece (and where a partial merge went).
     pub notes: Vec<String>,
+    /// Where the merged EXR was written (`None` before writing, or when a
+    /// partial merge could replace neither file, see `render::merge_pieces::merge_files`).
+    pub written: Option<PathBuf>,
 }
 
 fn refuse(message: String) -> Error {
@@ -47,9 +60,11 @@ pub fn merge(pieces: &[(PathBuf, Film)]) -> Result<Merged> {
     order.sort_by_key(|(_, f)| (f.provenance.requested[0].start, f.window.y0, f.window.x0));
     let (w, h) = first.display;
     let mut film = Film::new(first.display, Rect::full(w, h), merged_provenance(pieces));
-    for layer in &first.layers[1..] {
-        let channels: Vec<&str> = layer.channels.iter().map(String::as_str).collect();
-        film.add_layer(&layer.name, &channels);
+    let n = film.window.area();
+    film.layers
+        .extend(first.layers[1..].iter().map(|l| l.emptied(n)));
+    if first.splats.is_some() {
+        film.add_splats();
     }
     for (_, piece) in order {
         add(&mut film, piece);
@@ -66,7 +81,11 @@ pub fn merge(pieces: &[(PathBuf, Film)]) -> Result<Merged> {
             )
         })
         .collect();
-    Ok(Merged { film, notes })
+    Ok(Merged {
+        film,
+        notes,
+        written: None,
+    })
 }
 
 fn or_none(ranges: &[SampleRange]) -> String {
@@ -106,9 +125,14 @@ fn check_same_render(a_path: &Path, a: &Film, b_path: &Path, b: &Film) -> Result
         return differs("render size", spp(pa), spp(pb));
     }
     let names = |f: &Film| -> Vec<String> {
+        let splats = f
+            .splats
+            .as_ref()
+            .map(|_| "splats.R,splats.G,splats.B".to_string());
         f.layers
             .iter()
-            .flat_map(|l| (0..l.channels.len()).map(|c| l.channel_name(c)))
+            .flat_map(|l| l.channels.iter().cloned())
+            .chain(splats)
             .collect()
     };
     if names(a) != names(b) {
@@ -222,7 +246,8 @@ fn merged_provenance(pieces: &[(PathBuf, Film)]) -> Provenance {
     }
 }
 
-/// Adds `piece`'s sums and counts into `film` at the piece's pixels.
+/// Adds `piece`'s sums and counts into `film` at the piece's pixels, and its
+/// splats (which may lie outside its pixels) over the display window.
 fn add(film: &mut Film, piece: &Film) {
     let win = piece.window;
     for y in win.y0..win.y1 {
@@ -236,158 +261,16 @@ fn add(film: &mut Film, piece: &Film) {
                 for c in 0..k {
                     to.sums[i * k + c] += from.sums[j * k + c];
                 }
+                if let (Some(to), Some(from)) = (to.counts.as_mut(), from.counts.as_ref()) {
+                    to[i] += from[j];
+                }
             }
         }
     }
-}
-
-/// Reads the pieces, merges them and writes the merged film to `out` (and a PNG preview to `png`).
-pub fn merge_files(pieces: &[PathBuf], out: &Path, png: Option<&Path>) -> Result<Merged> {
-    crate::image_io::check_writable(out)?;
-    if let Some(png) = png {
-        crate::image_io::check_writable(png)?;
+    if let (Some(to), Some(from)) = (film.splats.as_mut(), piece.splats.as_ref()) {
+        to.add_sums(from);
     }
-    if let Some(absent) = pieces.iter().find(|p| !p.exists()) {
-        return Err(refuse(format!(
-            "missing piece: {} does not exist",
-            absent.display()
-        )));
-    }
-    let mut seen = std::collections::HashSet::new();
-    for p in pieces {
-        if !seen.insert(p.canonicalize().unwrap_or_else(|_| p.clone())) {
-            return Err(refuse(format!("{} is named twice", p.display())));
-        }
-    }
-    let films = pieces
-        .iter()
-        .map(|p| Ok((p.clone(), crate::image_io::read_film_exr(p)?)))
-        .collect::<Result<Vec<_>>>()?;
-    let merged = merge(&films)?;
-    crate::image_io::write_film_exr(out, &merged.film)?;
-    if let Some(png) = png {
-        crate::image_io::write_png(png, &merged.film.beauty_image(), 0.0)?;
-    }
-    Ok(merged)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn piece(window: Rect, requested: SampleRange, held: SampleRange, value: f64) -> Film {
-        let provenance = Provenance {
-            seed: 1,
-            scene_hash: 2,
-            spp_total: 8,
-            requested: vec![requested],
-            held: if held.is_empty() { vec![] } else { vec![held] },
-        };
-        let mut film = Film::new((4, 2), window, provenance);
-        film.counts.fill(held.len());
-        film.layers[0].sums.fill(value * held.len() as f64);
-        film
-    }
-
-    fn named(films: Vec<Film>) -> Vec<(PathBuf, Film)> {
-        films
-            .into_iter()
-            .enumerate()
-            .map(|(i, f)| (PathBuf::from(format!("p{i}.exr")), f))
-            .collect()
-    }
-
-    const FULL: Rect = Rect {
-        x0: 0,
-        x1: 4,
-        y0: 0,
-        y1: 2,
-    };
-    const R: fn(u32, u32) -> SampleRange = SampleRange::new;
-
-    #[test]
-    fn sample_ranges_are_weighted_by_their_counts() {
-        // An interrupted piece holding 2 samples of mean 4 and a whole piece of
-        // 4 samples of mean 1: mean (8 + 4) / 6 = 2, not the (4 + 1) / 2 of the means.
-        let pieces = named(vec![
-            piece(FULL, R(0, 4), R(0, 2), 4.0),
-            piece(FULL, R(4, 8), R(4, 8), 1.0),
-        ]);
-        let merged = merge(&pieces).unwrap();
-        let beauty = &merged.film.layers[0];
-        assert_eq!(merged.film.mean(beauty, 5, 1), 2.0);
-        assert_eq!(merged.film.counts[5], 6);
-        assert_eq!(merged.notes.len(), 1);
-        assert!(merged.notes[0].contains("p0.exr") && merged.notes[0].contains("0..2 of 0..4"));
-        assert_eq!(merged.film.provenance.held, vec![R(0, 2), R(4, 8)]);
-        assert!(!merged.film.provenance.complete());
-    }
-
-    #[test]
-    fn crops_are_placed_in_the_display_window() {
-        let left = Rect {
-            x0: 0,
-            x1: 1,
-            y0: 0,
-            y1: 2,
-        };
-        let right = Rect {
-            x0: 1,
-            x1: 4,
-            y0: 0,
-            y1: 2,
-        };
-        let pieces = named(vec![
-            piece(right, R(0, 8), R(0, 8), 3.0),
-            piece(left, R(0, 8), R(0, 8), 5.0),
-        ]);
-        let merged = merge(&pieces).unwrap();
-        let film = &merged.film;
-        let means: Vec<f32> = (0..8).map(|i| film.mean(&film.layers[0], i, 0)).collect();
-        assert_eq!(means, [5.0, 3.0, 3.0, 3.0, 5.0, 3.0, 3.0, 3.0]);
-        assert!(film.provenance.complete() && merged.notes.is_empty());
-    }
-
-    #[test]
-    fn refusals_say_what_differs() {
-        let err = |films: Vec<Film>| merge(&named(films)).err().unwrap().to_string();
-        let a = piece(FULL, R(0, 4), R(0, 4), 1.0);
-        let overlap = err(vec![a.clone(), piece(FULL, R(3, 8), R(3, 8), 1.0)]);
-        assert!(
-            overlap.contains("p1.exr (samples 3..8") && overlap.contains("overlaps p0.exr"),
-            "{overlap}"
-        );
-        let missing = err(vec![a.clone(), piece(FULL, R(4, 6), R(4, 6), 1.0)]);
-        assert!(
-            missing.contains("missing piece: no piece holds samples 6..8 of pixel 0,0"),
-            "{missing}"
-        );
-        let mut other_seed = piece(FULL, R(4, 8), R(4, 8), 1.0);
-        other_seed.provenance.seed = 9;
-        assert!(err(vec![a.clone(), other_seed]).contains("p1.exr: seed 9 differs from p0.exr's 1"));
-        let mut other_scene = piece(FULL, R(4, 8), R(4, 8), 1.0);
-        other_scene.provenance.scene_hash = 3;
-        assert!(err(vec![a.clone(), other_scene]).contains("scene hash"));
-        let mut other_size = piece(FULL, R(4, 8), R(4, 8), 1.0);
-        other_size.display = (5, 2);
-        assert!(err(vec![a, other_size]).contains("display window 5x2 differs from p0.exr's 4x2"));
-    }
-
-    #[test]
-    fn a_crop_gap_is_reported_with_its_pixel() {
-        let top = Rect {
-            x0: 0,
-            x1: 4,
-            y0: 0,
-            y1: 1,
-        };
-        let e = merge(&named(vec![piece(top, R(0, 8), R(0, 8), 1.0)]))
-            .err()
-            .unwrap()
-            .to_string();
-        assert!(
-            e.contains("samples 0..8 of pixel 0,1 (4 of 8 pixels"),
-            "{e}"
-        );
-    }
-}
+mod tests;

@@ -7,7 +7,7 @@
 //!   and output transforms, per channel: a filmic toe and a shoulder that rolls
 //!   highlights off smoothly to white instead of clipping them.
 
-use crate::color::linear_to_srgb;
+use crate::math::color::linear_to_srgb;
 
 /// How the PNG preview maps linear radiance to display values.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -1,11 +1,13 @@
 //! Lights: point, spot, area (emissive shapes), sun and environment.
 
-use crate::color::Rgb;
-use crate::envmap::EnvMap;
+pub mod envmap;
+
 use crate::geometry::{Geometry, Primitive};
+use crate::light::envmap::EnvMap;
+use crate::material::texture::Texture;
+use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
-use crate::texture::Texture;
 use std::f32::consts::PI;
 use std::sync::Arc;
 

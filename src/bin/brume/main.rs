@@ -1,7 +1,8 @@
 //! The `brume` command line: `render`, and the tools around it.
 
 use brume::error::{Error, Result};
-use brume::image_io;
+use brume::film::image_io;
+use brume::render::output_safety::Plan;
 use brume::render::{render_part, RenderOptions};
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
@@ -45,6 +46,10 @@ struct MergeArgs {
     /// A PNG preview of the merged image.
     #[arg(long)]
     png: Option<PathBuf>,
+    /// Denoise the merged beauty into a `denoised` layer, guided by the merged albedo and normal
+    /// (render the pieces with --denoise; needs a build with `--features denoise`).
+    #[arg(long)]
+    denoise: bool,
 }
 
 #[derive(clap::Args)]
@@ -135,6 +140,7 @@ struct RenderArgs {
     aovs: Option<String>,
     /// Denoise the beauty with Intel Open Image Denoise into a `denoised` layer
     /// (adds the albedo and normal AOVs; needs a build with `--features denoise`).
+    /// A piece of a split render records the albedo and normal only: denoise with `brume merge --denoise`.
     #[arg(long)]
     denoise: bool,
     /// Stream every finished pass to the tev image viewer listening at HOST:PORT (tev's default port is 14158).
@@ -154,7 +160,7 @@ struct RenderArgs {
     #[arg(long, requires = "frames")]
     skip_existing: bool,
     #[command(flatten)]
-    split: brume::split::SplitArgs,
+    split: brume::render::split::SplitArgs,
 }
 
 fn main() {
@@ -257,13 +263,17 @@ fn run_compare(args: CompareArgs) -> Result<i32> {
         }
     }
     if let Some(diff) = &args.diff {
-        image_io::check_writable(diff)?;
+        Plan::new("comparison")
+            .input("image A", &args.a)
+            .input("reference B", &args.b)
+            .output("--diff", diff, None)
+            .check()?;
     }
-    let (c, a, b) = brume::compare::compare_files(&args.a, &args.b)?;
+    let (c, a, b) = brume::film::compare::compare_files(&args.a, &args.b)?;
     print!("{}", c.report());
     if let Some(diff) = &args.diff {
-        let scale = brume::compare::diff_scale(&a, &b);
-        let rgb = brume::compare::false_colour(&a, &b, scale);
+        let scale = brume::film::compare::diff_scale(&a, &b);
+        let rgb = brume::film::compare::false_colour(&a, &b, scale);
         let (w, h) = c.size;
         image_io::write_png_srgb8(diff, w as u32, h as u32, &rgb)?;
         println!(
@@ -296,15 +306,6 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         return frames_cli::run_frames(&args);
     }
     let time_budget = check_render_args(&args)?;
-    let loaded = brume::scene::load_with_inputs(&args.scene)?;
-    for w in &loaded.warnings {
-        eprintln!("warning: {w}");
-    }
-    let (mut scene, inputs) = (loaded.scene, loaded.inputs);
-    let tonemap = apply_overrides(&mut scene, &args)?;
-    if let Some(pixel) = &args.debug_pixel {
-        return debug_pixel(&scene, pixel);
-    }
     let stem = args
         .scene
         .file_stem()
@@ -318,6 +319,24 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         .png
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}.png")));
+    if args.debug_pixel.is_none() {
+        // Before the scene's volumes are loaded: a refused run does no work.
+        let mut plan = Plan::new("render");
+        brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
+        plan.image_output("--out", &exr_path, None);
+        plan.image_output("--png", &png_path, None);
+        plan.check()?;
+        warn_extensions(&exr_path, &png_path);
+    }
+    let loaded = brume::scene::load_with_inputs(&args.scene)?;
+    for w in &loaded.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut scene = loaded.scene;
+    let tonemap = apply_overrides(&mut scene, &args)?;
+    if let Some(pixel) = &args.debug_pixel {
+        return debug_pixel(&scene, pixel);
+    }
     let cancel = install_interrupt_handler();
     let job = Job {
         args: &args,
@@ -326,14 +345,14 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: &cancel,
     };
-    render_and_write(&job, (&scene, None), &inputs, &exr_path, &png_path)
+    render_and_write(&job, (&scene, None), &exr_path, &png_path)
 }
 
 /// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene; returns the tonemap.
 fn apply_overrides(
     scene: &mut brume::integrator::Scene,
     args: &RenderArgs,
-) -> Result<brume::tonemap::Tonemap> {
+) -> Result<brume::film::tonemap::Tonemap> {
     if scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt {
         // No silent fallback to the path tracer until the driver calls the bidirectional estimator.
         return Err(Error::Scene {
@@ -359,11 +378,8 @@ fn apply_overrides(
         scene.aovs = parse_aovs(list)?;
     }
     if args.denoise {
-        if !brume::denoise::AVAILABLE {
-            return Err(argument(
-                "--denoise",
-                "this brume was built without the `denoise` feature (see docs/outputs.md)",
-            ));
+        if !brume::film::denoise::AVAILABLE {
+            return Err(argument("--denoise", brume::film::denoise::UNAVAILABLE));
         }
         use brume::integrator::aov::Aov;
         for aov in [Aov::Albedo, Aov::Normal] {
@@ -372,7 +388,7 @@ fn apply_overrides(
             }
         }
     }
-    brume::tonemap::Tonemap::from_name(&args.tonemap)
+    brume::film::tonemap::Tonemap::from_name(&args.tonemap)
         .ok_or_else(|| argument("--tonemap", "must be aces or clip"))
 }
 
@@ -434,30 +450,25 @@ fn install_interrupt_handler() -> Arc<AtomicBool> {
 struct Job<'a> {
     args: &'a RenderArgs,
     time_budget: Option<Duration>,
-    tonemap: brume::tonemap::Tonemap,
+    tonemap: brume::film::tonemap::Tonemap,
     show: bool,
     cancel: &'a Arc<AtomicBool>,
 }
 
-/// Renders one image of `scene` (a still, or the given frame) and writes its EXR and PNG; returns the exit code.
+/// Renders one image of `scene` (a still, or the given frame) and writes its
+/// EXR and PNG (paths already checked by the output-safety plan); returns the exit code.
 fn render_and_write(
     job: &Job,
     (scene, frame): (&brume::integrator::Scene, Option<i64>),
-    inputs: &[PathBuf],
     exr_path: &Path,
     png_path: &Path,
 ) -> Result<i32> {
     let args = job.args;
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let part = brume::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
-    if args.split.is_piece() && !scene.aovs.is_empty() {
-        return Err(argument(
-            "--aovs",
-            "AOV layers are not supported on split renders (--crop, --samples, --task-count) yet",
-        ));
-    }
-    let scene_hash = brume::scene_hash::frame_scene_hash(&args.scene, &scene.settings, frame)?;
-    check_outputs(exr_path, png_path, inputs)?;
+    let part =
+        brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
+    let scene_hash =
+        brume::render::provenance::frame_scene_hash(&args.scene, &scene.settings, frame)?;
     check_memory(scene, &args.scene)?;
     let options = RenderOptions {
         spp: scene.settings.spp,
@@ -466,14 +477,14 @@ fn render_and_write(
         threads: args.threads,
         progress: job.show,
     };
-    let checkpoint = match args.checkpoint {
+    let mut checkpoint = match args.checkpoint {
         Some(t) if !(t.is_finite() && t > 0.0) => {
             return Err(argument(
                 "--checkpoint",
                 "must be a positive number of seconds",
             ))
         }
-        Some(t) => Some(brume::checkpoint::Checkpoint::new(
+        Some(t) => Some(brume::render::checkpoint::Checkpoint::new(
             Duration::from_secs_f64(t),
             exr_path.to_path_buf(),
             png_path.to_path_buf(),
@@ -489,11 +500,18 @@ fn render_and_write(
                 .file_stem()
                 .map(|s| s.to_string_lossy().to_string())
                 .unwrap_or_else(|| "render".into());
-            Some(brume::display::Display::connect(address, &name)?)
+            Some(brume::render::display::Display::connect(address, &name)?)
         }
         None => None,
     };
-    let mut out = render_live(scene, &options, &part, job.cancel, display, checkpoint);
+    let mut out = render_live(
+        scene,
+        &options,
+        &part,
+        job.cancel,
+        display,
+        checkpoint.as_mut(),
+    );
     if out.image.spp == 0 {
         // Only a stop before the first pass finished gets here: an image of
         // 0 samples is black, and must not replace an earlier render.
@@ -505,42 +523,97 @@ fn render_and_write(
         return Ok(EXIT_INTERRUPTED);
     }
     out.film.provenance.scene_hash = scene_hash;
-    if scene.aovs.is_empty() {
-        image_io::write_film_exr(exr_path, &out.film)?;
-    } else {
-        let mut layers =
-            brume::render::render_aovs(scene, &scene.aovs, out.image.spp, args.threads);
-        if args.denoise {
-            denoise_layer(&out.image, &mut layers, exr_path)?;
+    save(job, &out, (exr_path, png_path), checkpoint.as_mut())
+}
+
+/// Writes a finished or stopped render: a stopped one as a partial image,
+/// beside a better one if need be (`output_safety::place_partial`); returns the exit code.
+fn save(
+    job: &Job,
+    out: &brume::render::RenderOutput,
+    (exr_path, png_path): (&Path, &Path),
+    checkpoint: Option<&mut brume::render::checkpoint::Checkpoint>,
+) -> Result<i32> {
+    use brume::render::output_safety::{place_partial, Placement};
+    let place = match out.image.partial {
+        true => place_partial(exr_path, Some(png_path), out.image.spp),
+        false => Placement::requested(exr_path, Some(png_path)),
+    };
+    if let (Some(exr), Some(png)) = (&place.exr, &place.png) {
+        write_images(job, out, exr, png)?;
+        if !job.args.quiet {
+            report(out, exr, png);
         }
-        image_io::write_film_exr_with(exr_path, &out.film, &layers)?;
     }
-    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)?;
-    if !args.quiet {
-        report(&out, exr_path, png_path);
+    if !out.image.partial {
+        if let Some(c) = checkpoint {
+            c.remove_stale();
+        }
+        return Ok(0);
     }
-    if out.image.partial {
-        // Said even with --quiet: the caller must know the image is not the full render.
-        eprintln!(
+    // Said even with --quiet: the caller must know the image is not the full render.
+    match (&place.exr, &place.png) {
+        (Some(exr), Some(png)) => eprintln!(
             "interrupted: saved the {} spp finished before the stop to {} and {}",
             out.image.spp,
-            exr_path.display(),
-            png_path.display()
-        );
-        return Ok(EXIT_INTERRUPTED);
+            exr.display(),
+            png.display()
+        ),
+        _ => eprintln!(
+            "interrupted: the {} spp finished before the stop were not saved",
+            out.image.spp
+        ),
     }
-    Ok(0)
+    if let Some(note) = place.note() {
+        eprintln!("note: {note}");
+    }
+    Ok(EXIT_INTERRUPTED)
+}
+
+/// Writes the render's EXR (with its AOV layers) and PNG preview.
+fn write_images(
+    job: &Job,
+    out: &brume::render::RenderOutput,
+    exr_path: &Path,
+    png_path: &Path,
+) -> Result<()> {
+    let args = job.args;
+    let denoised = match args.denoise && !args.split.is_piece() {
+        true => brume::film::denoise::denoise_film(&out.film).map_err(|message| Error::Output {
+            path: exr_path.to_path_buf(),
+            message,
+        })?,
+        false => Vec::new(),
+    };
+    image_io::write_film_exr_with(exr_path, &out.film, &denoised)?;
+    if args.denoise && args.split.is_piece() && !args.quiet {
+        eprintln!(
+            "note: {} holds the albedo and normal for denoising after the merge: \
+             brume merge --denoise",
+            exr_path.display()
+        );
+    }
+    image_io::write_png_tonemapped(png_path, &out.image, args.exposure, job.tonemap)
 }
 
 fn run_merge(args: MergeArgs) -> Result<i32> {
-    let merged = brume::merge::merge_files(&args.pieces, &args.out, args.png.as_deref())?;
+    let merged = brume::render::merge_pieces::merge_files(
+        &args.pieces,
+        &args.out,
+        args.png.as_deref(),
+        args.denoise,
+    )?;
     for note in &merged.notes {
         eprintln!("{note}");
     }
     let p = &merged.film.provenance;
     let (w, h) = merged.film.display;
+    let written = match &merged.written {
+        Some(path) => path.display().to_string(),
+        None => "not written".into(),
+    };
     eprintln!(
-        "merged {} pieces into {w}x{h} at {} spp{} -> {}",
+        "merged {} pieces into {w}x{h} at {} spp{} -> {written}",
         args.pieces.len(),
         p.spp_held(),
         if p.complete() {
@@ -548,39 +621,9 @@ fn run_merge(args: MergeArgs) -> Result<i32> {
         } else {
             " (incomplete: some pieces were interrupted)"
         },
-        args.out.display()
     );
-    Ok(0)
-}
-
-/// Appends the `denoised.R/G/B` channels, denoised from the beauty, albedo and normal.
-fn denoise_layer(
-    image: &image_io::Image,
-    layers: &mut Vec<image_io::NamedChannel>,
-    exr: &Path,
-) -> Result<()> {
-    let get = |name: &str| -> &[f32] {
-        layers
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_slice())
-            .unwrap_or(&[])
-    };
-    let denoised = brume::denoise::denoise(
-        image.width,
-        image.height,
-        &image.pixels,
-        [get("albedo.R"), get("albedo.G"), get("albedo.B")],
-        [get("normal.X"), get("normal.Y"), get("normal.Z")],
-    )
-    .map_err(|message| Error::Output {
-        path: exr.to_path_buf(),
-        message,
-    })?;
-    for (name, values) in brume::denoise::CHANNELS.iter().zip(denoised) {
-        layers.push((name.to_string(), values));
-    }
-    Ok(())
+    // Nothing saved (both files hold better images, said in a note above): not a success.
+    Ok(if merged.written.is_some() { 0 } else { 1 })
 }
 
 /// `--aovs a,b,c`: known names, each once; `none` for none.
@@ -615,8 +658,8 @@ fn render_live(
     options: &RenderOptions,
     part: &brume::render::Part,
     cancel: &AtomicBool,
-    mut display: Option<brume::display::Display>,
-    mut checkpoint: Option<brume::checkpoint::Checkpoint>,
+    mut display: Option<brume::render::display::Display>,
+    mut checkpoint: Option<&mut brume::render::checkpoint::Checkpoint>,
 ) -> brume::render::RenderOutput {
     if display.is_none() && checkpoint.is_none() {
         return render_part(scene, options, part, cancel, None);
@@ -701,35 +744,8 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
     Ok(0)
 }
 
-/// The output rules, checked before rendering: each output a writable file
-/// (see `image_io::check_writable`), the two outputs different files, and
-/// neither one an input of the render; a wrong extension is only a warning.
-fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
-    image_io::check_writable(exr)?;
-    image_io::check_writable(png)?;
-    let (exr_c, png_c) = (image_io::canonical(exr), image_io::canonical(png));
-    if exr_c == png_c {
-        return Err(argument(
-            "--png",
-            &format!(
-                "{} is the same file as the EXR output {}; give two different files",
-                png.display(),
-                exr.display()
-            ),
-        ));
-    }
-    for (flag, out, out_c) in [("--out", exr, &exr_c), ("--png", png, &png_c)] {
-        if let Some(input) = inputs.iter().find(|i| image_io::canonical(i) == *out_c) {
-            return Err(argument(
-                flag,
-                &format!(
-                    "{} is an input of the render ({}); brume never overwrites its inputs",
-                    out.display(),
-                    input.display()
-                ),
-            ));
-        }
-    }
+/// A wrong extension is only a warning: the format follows the flag, not the name.
+fn warn_extensions(exr: &Path, png: &Path) {
     for (flag, out, ext) in [("--out", exr, "exr"), ("--png", png, "png")] {
         let matches = out
             .extension()
@@ -742,14 +758,13 @@ fn check_outputs(exr: &Path, png: &Path, inputs: &[PathBuf]) -> Result<()> {
             );
         }
     }
-    Ok(())
 }
 
 /// Refuses an image too large for this machine before rendering: a failed
 /// allocation mid-render would abort the process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let bytes = brume::render::peak_bytes(w, h);
+    let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, false);
     let limit = brume::render::MAX_PEAK_BYTES;
     let why = if bytes > limit {
         format!("more than brume's limit of {:.1} GB", limit as f64 / 1e9)
@@ -803,6 +818,17 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",
             out.nonfinite_samples
+        );
+    }
+    if let Some(dropped) = out
+        .film
+        .splats
+        .as_ref()
+        .map(|s| s.dropped)
+        .filter(|&d| d > 0)
+    {
+        eprintln!(
+            "warning: {dropped} splats were NaN, infinite or off the image and were left out"
         );
     }
     if out.tracking.capped_rays > 0 {

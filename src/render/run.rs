@@ -1,0 +1,248 @@
+//! One render from its first pass to its film: groups of passes while the
+//! budget lasts, each finished pass added to the film in pass order.
+
+use super::group::{Buffers, Group, RayCounts};
+use super::{pass_pixel_bytes, Estimator, Job, PassObserver, RenderOptions, RenderOutput};
+use crate::film::{Film, SampleRange};
+use crate::integrator::aov::Aov;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// A render between passes: the film so far and the buffers of the next group.
+pub(super) struct Run<'a, E> {
+    job: &'a Job<'a, E>,
+    options: &'a RenderOptions,
+    cancel: &'a AtomicBool,
+    /// The AOV of each film layer after the beauty.
+    aovs: Vec<Aov>,
+    film: Film,
+    bufs: Buffers,
+    bar: ProgressBar,
+    start: Instant,
+    spp_done: u32,
+    partial: bool,
+    rays: RayCounts,
+}
+
+impl<'a, E: Estimator> Run<'a, E> {
+    /// A render of `job` that has taken no sample yet.
+    pub fn new(job: &'a Job<'a, E>, options: &'a RenderOptions, cancel: &'a AtomicBool) -> Self {
+        let film = job.new_film();
+        let aovs = film.layers[1..].iter().filter_map(|l| l.aov()).collect();
+        let mut bufs = Buffers::default();
+        if let Some(s) = &film.splats {
+            bufs.pass_splats = Some(s.clone());
+        }
+        Run {
+            job,
+            options,
+            cancel,
+            aovs,
+            film,
+            bufs,
+            bar: progress_bar(options, job.part.crop.height() as u64),
+            start: Instant::now(),
+            spp_done: 0,
+            partial: false,
+            rays: RayCounts::default(),
+        }
+    }
+
+    /// True while the spp or time budget allows another pass.
+    fn budget_left(&self) -> bool {
+        let (options, done) = (self.options, self.spp_done);
+        match options.time_budget {
+            // A time budget always gets its first pass: no render ends with 0 samples.
+            Some(t) => {
+                (done == 0 || self.start.elapsed() < t)
+                    && (!options.spp_is_cap || done < options.spp)
+            }
+            None => done < options.spp,
+        }
+    }
+
+    /// Renders groups of passes until the budget is spent or `cancel` is set.
+    pub fn passes(&mut self, mut on_pass: Option<PassObserver>) {
+        let pass_spp = pass_size(self.options);
+        let crop = self.job.part.crop;
+        let (w, h) = (crop.width() as usize, crop.height() as usize);
+        // Observers look at the image after every pass; splats are kept per pass.
+        let one_pass = on_pass.is_some() || self.job.estimator.splats();
+        let group_pixels = GROUP_BYTES / pass_pixel_bytes(!self.aovs.is_empty());
+        while self.budget_left() {
+            if self.cancel.load(Ordering::Relaxed) {
+                self.partial = true;
+                break;
+            }
+            let counts = group_counts(
+                self.options,
+                pass_spp,
+                self.spp_done,
+                one_pass,
+                w * h,
+                group_pixels,
+            );
+            let group = Group {
+                scene: self.job.scene,
+                estimator: self.job.estimator,
+                w,
+                h,
+                origin: (crop.x0, crop.y0),
+                first: self.job.part.samples.start + self.spp_done,
+                counts: &counts,
+                with_aovs: !self.aovs.is_empty(),
+                cancel: self.cancel,
+                bar: &self.bar,
+            };
+            let (finished, rays) = group.render(&mut self.bufs);
+            self.rays.merge(rays);
+            // A pass cut short is dropped whole, so every pixel of the image has
+            // exactly `spp_done` samples; a pass that finished is kept even if the
+            // stop request came in just after its last row.
+            for (k, &count) in counts.iter().enumerate().take(finished) {
+                self.add_pass(k, count);
+                if let Some(observe) = on_pass.as_mut() {
+                    let mut image = self.film.beauty_image();
+                    image.partial = true;
+                    observe(&image);
+                }
+            }
+            self.bar.set_message(format!("{} spp", self.spp_done));
+            if finished < counts.len() {
+                self.partial = true;
+                break;
+            }
+        }
+        self.bar.finish_and_clear();
+    }
+
+    /// Adds pass `k` of the group's buffers (`count` samples) to the film.
+    fn add_pass(&mut self, k: usize, count: u32) {
+        let film = &mut self.film;
+        let n = film.window.area();
+        let pass = &self.bufs.sums[k * n..(k + 1) * n];
+        let squares = film.squares.as_mut().expect("a render keeps the squares");
+        for (i, p) in pass.iter().enumerate() {
+            for c in 0..3 {
+                film.layers[0].sums[3 * i + c] += p.sum[c];
+                squares[3 * i + c] += p.squares[c];
+            }
+            film.counts[i] += p.count;
+            film.nonfinite[i] += p.nonfinite;
+        }
+        if !self.aovs.is_empty() {
+            let aovs = &self.bufs.aovs[k * n..(k + 1) * n];
+            for (layer, &aov) in film.layers[1..].iter_mut().zip(&self.aovs) {
+                let k = layer.channels.len();
+                let counts = layer
+                    .counts
+                    .as_mut()
+                    .expect("AOV layers count their own samples");
+                for (i, a) in aovs.iter().enumerate() {
+                    a.add_into(aov, &mut layer.sums[i * k..(i + 1) * k], &mut counts[i]);
+                }
+            }
+        }
+        if let (Some(to), Some(from)) = (film.splats.as_mut(), self.bufs.pass_splats.as_ref()) {
+            to.add_sums(from);
+        }
+        self.spp_done += count;
+        let start = self.job.part.samples.start;
+        film.provenance.held = vec![SampleRange::new(start, start + self.spp_done)];
+    }
+
+    /// The film with its final provenance, the image and the statistics.
+    pub fn finish(mut self) -> RenderOutput {
+        let part = self.job.part;
+        let held = SampleRange::new(part.samples.start, part.samples.start + self.spp_done);
+        // A timed render asks for what it reaches; only a stopped one falls short.
+        let requested = match self.partial {
+            true => SampleRange::new(part.samples.start, part.samples.end.max(held.end)),
+            false => held,
+        };
+        let provenance = &mut self.film.provenance;
+        provenance.spp_total = requested.end;
+        provenance.requested = vec![requested];
+        provenance.held = if held.is_empty() { vec![] } else { vec![held] };
+        let mut image = self.film.beauty_image();
+        image.partial = self.partial;
+        RenderOutput {
+            image,
+            nonfinite_samples: self.film.nonfinite.iter().map(|&n| n as u64).sum(),
+            samples: self.spp_done as u64 * part.crop.area() as u64,
+            film: self.film,
+            elapsed: self.start.elapsed(),
+            tracking: self.rays.tracking,
+            truncated_interiors: self.rays.truncated_interiors,
+        }
+    }
+}
+
+/// Bytes of pass buffers a group of passes may hold at once.
+pub(super) const GROUP_BYTES: usize = 32 << 20;
+
+/// The spp of each pass of the next group: one pass with a time budget or
+/// when `one_pass` (an observer looks at the image after every pass, or the
+/// estimator splats), otherwise as many as fit in `group_pixels`, so that the
+/// threads meet once per group instead of once per pass (each meeting idles
+/// all but the slowest thread).
+fn group_counts(
+    options: &RenderOptions,
+    pass_spp: u32,
+    spp_done: u32,
+    one_pass: bool,
+    pixels: usize,
+    group_pixels: usize,
+) -> Vec<u32> {
+    if options.time_budget.is_some() {
+        let count = match options.spp_is_cap {
+            true => pass_spp.min(options.spp - spp_done),
+            false => pass_spp,
+        };
+        return vec![count];
+    }
+    let most = if one_pass {
+        1
+    } else {
+        (group_pixels / pixels.max(1)).max(1)
+    };
+    let mut counts = Vec::new();
+    let mut done = spp_done;
+    while done < options.spp && counts.len() < most {
+        let count = pass_spp.min(options.spp - done);
+        counts.push(count);
+        done += count;
+    }
+    counts
+}
+
+/// Samples per pass: all at once without a time budget (in chunks for progress), small passes with one.
+fn pass_size(options: &RenderOptions) -> u32 {
+    match options.time_budget {
+        Some(_) => 4,
+        None => options.spp.clamp(1, 16),
+    }
+}
+
+fn progress_bar(options: &RenderOptions, rows: u64) -> ProgressBar {
+    if !options.progress {
+        return ProgressBar::hidden();
+    }
+    let bar = match options.time_budget {
+        // The length of a timed render is unknown: show a spinner with rates.
+        Some(_) => ProgressBar::new_spinner(),
+        None => ProgressBar::new(rows * options.spp.div_ceil(pass_size(options)) as u64),
+    };
+    bar.set_draw_target(ProgressDrawTarget::stderr());
+    let template = if options.time_budget.is_some() {
+        "{spinner} {elapsed_precise} {msg}"
+    } else {
+        "{bar:40} {percent:>3}% {elapsed_precise} eta {eta} {msg}"
+    };
+    if let Ok(style) = ProgressStyle::with_template(template) {
+        bar.set_style(style);
+    }
+    bar.enable_steady_tick(Duration::from_millis(200));
+    bar
+}
