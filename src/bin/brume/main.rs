@@ -11,6 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
+mod debug_strategies;
 mod frames_cli;
 
 /// brume: a physically based renderer for participating media.
@@ -152,6 +153,10 @@ struct RenderArgs {
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
     #[arg(long, value_name = "X,Y")]
     debug_pixel: Option<String>,
+    /// For a bdpt scene, also write each strategy's weighted and unweighted
+    /// contribution images into DIR (s2_t1_weighted.exr, ...), retracing the render's samples.
+    #[arg(long, value_name = "DIR")]
+    debug_strategies: Option<PathBuf>,
     /// Render a frame sequence: `1-100`, `1,3,7-20:2`; outputs take the #### pattern of --out/--png
     /// (default NAME.####.exr and NAME.####.png).
     #[arg(long, value_name = "LIST", allow_hyphen_values = true)]
@@ -302,6 +307,9 @@ fn argument(name: &str, message: &str) -> Error {
 }
 
 fn run_render(args: RenderArgs) -> Result<i32> {
+    if let Some(dir) = &args.debug_strategies {
+        debug_strategies::check_args(&args, dir)?;
+    }
     if args.frames.is_some() {
         return frames_cli::run_frames(&args);
     }
@@ -337,6 +345,9 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if let Some(pixel) = &args.debug_pixel {
         return debug_pixel(&scene, pixel);
     }
+    if args.debug_strategies.is_some() {
+        debug_strategies::check_scene(&scene)?;
+    }
     let cancel = install_interrupt_handler();
     let job = Job {
         args: &args,
@@ -345,7 +356,15 @@ fn run_render(args: RenderArgs) -> Result<i32> {
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: &cancel,
     };
-    render_and_write(&job, (&scene, None), &exr_path, &png_path)
+    let code = render_and_write(&job, (&scene, None), &exr_path, &png_path)?;
+    if let Some(dir) = &args.debug_strategies {
+        if code == 0 {
+            debug_strategies::write(&args, &scene, dir, (&exr_path, &png_path))?;
+        } else {
+            eprintln!("note: the render was stopped: no --debug-strategies images written");
+        }
+    }
+    Ok(code)
 }
 
 /// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene; returns the tonemap.
@@ -353,15 +372,6 @@ fn apply_overrides(
     scene: &mut brume::integrator::Scene,
     args: &RenderArgs,
 ) -> Result<brume::film::tonemap::Tonemap> {
-    if scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt {
-        // No silent fallback to the path tracer until the driver calls the bidirectional estimator.
-        return Err(Error::Scene {
-            file: args.scene.clone(),
-            field: "integrator.type".into(),
-            message: "\"bdpt\" is not wired into `brume render` yet (issue 31): use \"path\""
-                .into(),
-        });
-    }
     if let Some(spp) = args.spp {
         if spp == 0 {
             return Err(argument("--spp", "must be at least 1"));
@@ -697,6 +707,13 @@ fn debug_pixel(scene: &brume::integrator::Scene, text: &str) -> Result<i32> {
     if x >= scene.camera.width() || y >= scene.camera.height() {
         return Err(bad());
     }
+    if scene.settings.integrator != brume::integrator::IntegratorKind::Path {
+        // A bidirectional pixel also gathers other pixels' light-tracing splats: its samples are not its value.
+        return Err(argument(
+            "--debug-pixel",
+            "replays the path tracer's samples only; this scene's [integrator] type is \"bdpt\"",
+        ));
+    }
     let spp = scene.settings.spp;
     let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
     let (mut finite, mut nonfinite) = (0u32, 0u32);
@@ -764,7 +781,8 @@ fn warn_extensions(exr: &Path, png: &Path) {
 /// allocation mid-render would abort the process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, false);
+    let splats = scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt;
+    let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, splats);
     let limit = brume::render::MAX_PEAK_BYTES;
     let why = if bytes > limit {
         format!("more than brume's limit of {:.1} GB", limit as f64 / 1e9)

@@ -28,6 +28,7 @@
 //! camera estimates, are divided by the samples per pixel.
 
 mod connect;
+mod estimator;
 mod media;
 mod mis;
 pub mod strategies;
@@ -43,6 +44,7 @@ use crate::light::SceneSphere;
 use crate::math::color::Rgb;
 use crate::sampling::PixelStreams;
 use connect::Contribution;
+pub use estimator::Bdpt;
 use media::Surrogate;
 use vertex::{Kind, Vertex};
 use weights::Context;
@@ -52,8 +54,6 @@ use weights::Context;
 pub struct BdptArena {
     camera: Vec<Vertex>,
     light: Vec<Vertex>,
-    /// Light-tracing splats dropped because their radiance was not finite.
-    non_finite_splats: u64,
     /// Reusable splat storage for whole-image renders (module `strategies`).
     splat_buffer: Vec<Splat>,
 }
@@ -63,17 +63,12 @@ impl BdptArena {
     pub fn new() -> BdptArena {
         BdptArena::default()
     }
-
-    /// How many t = 1 splats were dropped for a NaN or infinite radiance
-    /// (the film cannot attribute them to a sample), and resets the count.
-    pub fn take_non_finite_splats(&mut self) -> u64 {
-        std::mem::take(&mut self.non_finite_splats)
-    }
 }
 
 /// The camera-side radiance of sample `s` of pixel (`x`, `y`); light-tracing
 /// contributions go to `splats`, each to be divided, like the returned value,
-/// by the samples per pixel.
+/// by the samples per pixel (a NaN or infinite one too: the film counts it
+/// and leaves it out, as it does the camera estimates).
 pub fn sample(
     scene: &Scene,
     x: u32,
@@ -179,12 +174,7 @@ fn run(
         time,
     };
     let mut radiance = Rgb::BLACK;
-    let BdptArena {
-        camera,
-        light,
-        non_finite_splats,
-        ..
-    } = arena;
+    let BdptArena { camera, light, .. } = arena;
     subpath::camera_subpath(scene, &ctx.sur, ray, &mut sampler, camera, &mut radiance);
     subpath::light_subpath(scene, &ctx.sur, &ctx.sphere, time, &mut sampler, light);
     for t in 1..=camera.len() {
@@ -197,10 +187,6 @@ fn run(
                 else {
                     continue;
                 };
-                if !c.weighted.is_finite() {
-                    *non_finite_splats += 1;
-                    continue;
-                }
                 let (px, py) = (raster.x as u32, raster.y as u32);
                 report(Event::Splat { s, x: px, y: py, c });
                 continue;

@@ -13,6 +13,9 @@ use super::{run, BdptArena, Event};
 use crate::integrator::Scene;
 use crate::math::color::Rgb;
 
+mod parallel;
+pub use parallel::render_strategies;
+
 /// One pass over the image: sample `index` of every pixel, its splats added
 /// where they land. `image` holds width × height pixels, row-major; it is
 /// overwritten.
@@ -27,30 +30,13 @@ pub fn render_pass(scene: &Scene, index: u32, arena: &mut BdptArena, image: &mut
             splats.clear();
             let l = super::sample_with_streams(scene, x, y, &streams, index, arena, &mut splats);
             image[(y * w + x) as usize] += l;
-            for sp in &splats {
+            // The film leaves non-finite splats out: so does this image.
+            for sp in splats.iter().filter(|sp| sp.radiance.is_finite()) {
                 image[(sp.y * w + sp.x) as usize] += sp.radiance;
             }
             arena.splat_buffer = splats;
         }
     }
-}
-
-/// The bidirectional render of `scene` with `spp` samples per pixel (the mean of its passes).
-pub fn render(scene: &Scene, spp: u32) -> Vec<Rgb> {
-    let n = (scene.camera.width() * scene.camera.height()) as usize;
-    let mut arena = BdptArena::new();
-    let mut pass = vec![Rgb::BLACK; n];
-    let mut sum = vec![Rgb::BLACK; n];
-    for index in 0..spp {
-        render_pass(scene, index, &mut arena, &mut pass);
-        for (s, p) in sum.iter_mut().zip(&pass) {
-            *s += *p;
-        }
-    }
-    for s in &mut sum {
-        *s /= spp.max(1) as f32;
-    }
-    sum
 }
 
 /// The images of one strategy (s, t): what it adds to the render, and what
@@ -67,25 +53,8 @@ pub struct StrategyImage {
     pub unweighted: Vec<Rgb>,
 }
 
-/// Every strategy's images over `spp` samples per pixel, for paths of at
-/// most `max_segments` segments (the others are not recorded), sorted by
-/// (segments, s). The weighted images of one render sum to it.
-pub fn render_strategies(scene: &Scene, spp: u32, max_segments: usize) -> Vec<StrategyImage> {
-    let mut out = Vec::new();
-    let mut arena = BdptArena::new();
-    for index in 0..spp {
-        add_strategy_pass(scene, index, max_segments, &mut arena, &mut out);
-    }
-    for im in &mut out {
-        for p in im.weighted.iter_mut().chain(im.unweighted.iter_mut()) {
-            *p /= spp.max(1) as f32;
-        }
-    }
-    out.sort_by_key(|im| (im.s + im.t, im.s));
-    out
-}
-
-/// The strategy images of pass `index` alone (sample `index` of every pixel), as [`render_strategies`] sorts them.
+/// The strategy images of pass `index` alone (sample `index` of every pixel),
+/// sorted by (segments, s) as [`render_strategies`] sorts them.
 pub fn strategy_pass(
     scene: &Scene,
     index: u32,
@@ -116,7 +85,7 @@ fn add_strategy_pass(
                     Event::Camera { s, t, c } => (s, t, x, y, c),
                     Event::Splat { s, x, y, c } => (s, 1, x, y, c),
                 };
-                if s + t - 1 > max_segments {
+                if s + t - 1 > max_segments || !c.weighted.is_finite() {
                     return;
                 }
                 let i = match out.iter().position(|im| im.s == s && im.t == t) {
