@@ -5,6 +5,9 @@ use crate::math::{Ray, Vec2, Vec3};
 use crate::sampling::{warp, Sampler};
 use std::sync::Arc;
 
+mod importance;
+pub use importance::CameraConnection;
+
 /// Which image axis the field of view spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum FovAxis {

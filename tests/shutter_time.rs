@@ -5,6 +5,7 @@ use brume::integrator::{Settings, TransmittanceEstimator};
 
 fn settings(shutter: Option<[f32; 2]>) -> Settings {
     Settings {
+        integrator: Default::default(),
         spp: 1,
         max_depth: 1,
         max_scatter_depth: 1,

@@ -7,6 +7,7 @@
 //! shadow rays, combined by MIS with phase/BSDF sampling.
 
 pub mod aov;
+pub mod bdpt;
 mod direct;
 mod equiangular;
 pub mod tracking;
@@ -24,9 +25,21 @@ use direct::{direct_light, Vertex};
 pub use tracking::TransmittanceEstimator;
 use tracking::{sample_free_flight, FreeFlight};
 
+/// Which estimator renders the image (`[integrator] type`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// The volumetric path tracer [`li`].
+    #[default]
+    Path,
+    /// Bidirectional path tracing ([`bdpt`]).
+    Bdpt,
+}
+
 /// Sampling settings of a render.
 #[derive(Clone, Copy, Debug)]
 pub struct Settings {
+    /// The estimator.
+    pub integrator: IntegratorKind,
     /// Samples per pixel.
     pub spp: u32,
     /// Maximum number of scattering events on a path (0 = emission only, 1 = direct light).

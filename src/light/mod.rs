@@ -11,9 +11,11 @@ use crate::sampling::warp;
 use std::f32::consts::PI;
 use std::sync::Arc;
 
+mod emission;
 mod moving;
 mod pick;
 mod sphere;
+pub use emission::{EmissionSample, SceneSphere};
 pub use pick::{LightPick, UNIFORM_SHARE};
 use sphere::Cone;
 
@@ -152,6 +154,10 @@ pub struct LightSample {
     pub pdf: f32,
     /// True when no other strategy can find this light.
     pub is_delta: bool,
+    /// Unit geometric normal of an area light at the sampled point (zero for
+    /// point lights and lights at infinity): bidirectional MIS converts the
+    /// sample's density to area measure with it.
+    pub normal: Vec3,
 }
 
 impl Light {
@@ -280,6 +286,7 @@ impl Light {
                     radiance: *intensity / dist2,
                     pdf: 1.0,
                     is_delta: true,
+                    normal: Vec3::ZERO,
                 })
             }
             Light::Spot {
@@ -300,6 +307,7 @@ impl Light {
                     radiance: *intensity * (falloff / dist2),
                     pdf: 1.0,
                     is_delta: true,
+                    normal: Vec3::ZERO,
                 })
             }
             Light::Area {
@@ -320,6 +328,7 @@ impl Light {
                         radiance: *irradiance,
                         pdf: 1.0,
                         is_delta: true,
+                        normal: Vec3::ZERO,
                     });
                 }
                 let local = warp::square_to_uniform_cone(u, *cos_max);
@@ -329,6 +338,7 @@ impl Light {
                     radiance: sun_radiance(*irradiance, *cos_max),
                     pdf: warp::uniform_cone_pdf(*cos_max),
                     is_delta: false,
+                    normal: Vec3::ZERO,
                 })
             }
             Light::Environment(Environment::Map(map)) => map.sample(u).map(|s| LightSample {
@@ -337,6 +347,7 @@ impl Light {
                 radiance: s.radiance,
                 pdf: s.pdf,
                 is_delta: false,
+                normal: Vec3::ZERO,
             }),
             Light::Environment(env) => {
                 let (wi, pdf) = match normal {
@@ -356,6 +367,7 @@ impl Light {
                     radiance: env.radiance(wi),
                     pdf,
                     is_delta: false,
+                    normal: Vec3::ZERO,
                 })
             }
         }
@@ -424,6 +436,7 @@ impl Light {
             radiance,
             pdf: dist2 / (cos_light.abs() * total),
             is_delta: false,
+            normal: a.n,
         })
     }
 

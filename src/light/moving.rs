@@ -30,6 +30,7 @@ pub(super) fn sample(
     Some(LightSample {
         wi: (m.rotation * local.wi).normalize(),
         distance: local.distance * m.scale.x,
+        normal: (m.rotation * local.normal).normalize_or_zero(),
         ..local
     })
 }

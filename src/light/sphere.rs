@@ -68,13 +68,16 @@ impl Cone {
     /// A light sample of a sphere of `radiance` drawn in the cone.
     pub(super) fn light_sample(&self, u: Vec2, radius: f32, radiance: Rgb) -> Option<LightSample> {
         let (wi, distance) = self.sample(u, radius);
+        // The outward normal at the hit: from the centre (axis · distance away) to the point.
+        let normal = ((wi * distance - self.axis * self.distance) / radius).normalize_or_zero();
         // Seen from outside, only the outward side faces the receiver.
-        (distance > 0.0).then(|| LightSample {
+        (distance > 0.0).then_some(LightSample {
             wi,
             distance,
             radiance,
             pdf: self.pdf(),
             is_delta: false,
+            normal,
         })
     }
 }

@@ -6,6 +6,7 @@
 //! A `Shading` carries the shading normal flipped to the side of `wo` and
 //! which side of the surface that is (dielectrics need it for η).
 
+mod adjoint;
 pub mod texture;
 
 pub mod fresnel;

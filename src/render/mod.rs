@@ -24,8 +24,9 @@ pub use estimator::{pixel_sample, Estimator, PathTracer};
 use crate::film::image_io::{Image, NamedChannel};
 use crate::film::{Film, PixelSums, Provenance, Rect, SampleRange};
 use crate::integrator::aov::{Aov, AovPixel};
+use crate::integrator::bdpt::Bdpt;
 use crate::integrator::tracking::TrackingStats;
-use crate::integrator::Scene;
+use crate::integrator::{IntegratorKind, Scene};
 use crate::math::color::Rgb;
 use run::{Run, GROUP_BYTES};
 use std::sync::atomic::AtomicBool;
@@ -153,8 +154,8 @@ pub fn render_observed(
 
 /// Renders sample indices `part.samples` of the pixels in `part.crop` only
 /// (`options.spp` is then the spp of the whole render the part belongs to),
-/// with the path tracer and the scene's AOVs, showing the image so far to
-/// `on_pass` after every finished pass.
+/// with the scene's integrator (`[integrator] type`) and AOVs, showing the
+/// image so far to `on_pass` after every finished pass.
 pub fn render_part(
     scene: &Scene,
     options: &RenderOptions,
@@ -162,7 +163,13 @@ pub fn render_part(
     cancel: &AtomicBool,
     on_pass: Option<PassObserver>,
 ) -> RenderOutput {
-    render_part_with(scene, &PathTracer, options, part, cancel, on_pass)
+    // Chosen once per render: the driver is generic over the estimator, no dyn per sample.
+    match scene.settings.integrator {
+        IntegratorKind::Path => {
+            render_part_with(scene, &PathTracer, options, part, cancel, on_pass)
+        }
+        IntegratorKind::Bdpt => render_part_with(scene, &Bdpt, options, part, cancel, on_pass),
+    }
 }
 
 /// [`render_part`] with another estimator: the driver entry point of every

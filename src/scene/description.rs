@@ -275,6 +275,9 @@ fn default_resolution() -> [u32; 2] {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorDesc {
+    /// Estimator: path (the default) or bdpt.
+    #[serde(default = "default_integrator_type", rename = "type")]
+    pub kind: String,
     /// Samples per pixel.
     #[serde(default = "default_spp")]
     pub spp: u32,
@@ -301,6 +304,10 @@ pub struct IntegratorDesc {
     pub sampler: String,
 }
 
+fn default_integrator_type() -> String {
+    "path".into()
+}
+
 fn default_sampler() -> String {
     "sobol".into()
 }
@@ -316,6 +323,7 @@ fn default_transmittance() -> String {
 impl Default for IntegratorDesc {
     fn default() -> Self {
         IntegratorDesc {
+            kind: default_integrator_type(),
             spp: default_spp(),
             max_depth: default_max_depth(),
             max_scatter_depth: None,

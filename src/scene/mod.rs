@@ -25,7 +25,7 @@ use crate::camera::{Camera, FovAxis};
 use crate::error::{Error, Result};
 use crate::geometry::Geometry;
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
-use crate::integrator::{Scene, Settings, TransmittanceEstimator};
+use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light, LightPick};
 use crate::material::texture::Texture;
 use crate::material::Material;
@@ -358,6 +358,16 @@ pub fn build_frame(
         missing: desc.animation.missing_frames,
     };
     let settings = Settings {
+        integrator: match integ.kind.as_str() {
+            "path" => IntegratorKind::Path,
+            "bdpt" => IntegratorKind::Bdpt,
+            other => {
+                return Err(check.error(
+                    "integrator.type",
+                    format!("unknown integrator `{other}`, expected path or bdpt"),
+                ))
+            }
+        },
         spp: integ.spp,
         max_depth: integ.max_depth,
         max_scatter_depth: integ.max_scatter_depth.unwrap_or(u32::MAX),

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
+mod debug_strategies;
 mod frames_cli;
 mod interrupt;
 
@@ -166,6 +167,10 @@ struct RenderArgs {
     /// Replay one pixel X,Y (column, row from the top): print its samples' statistics, write no image.
     #[arg(long, value_name = "X,Y", value_parser = values::pixel)]
     debug_pixel: Option<(u32, u32)>,
+    /// For a bdpt scene, also write each strategy's weighted and unweighted
+    /// contribution images into DIR (s2_t1_weighted.exr, ...), retracing the render's samples.
+    #[arg(long, value_name = "DIR")]
+    debug_strategies: Option<PathBuf>,
     /// Render a frame sequence: `1-100`, `1,3,7-20:2`; outputs take the #### pattern of --out/--png
     /// (default NAME.####.exr and NAME.####.png).
     #[arg(long, value_name = "LIST", allow_hyphen_values = true, value_parser = values::frames)]
@@ -331,6 +336,9 @@ fn argument(name: &str, message: &str) -> Error {
 }
 
 fn run_render(args: RenderArgs) -> Result<i32> {
+    if let Some(dir) = &args.debug_strategies {
+        debug_strategies::check_args(&args, dir)?;
+    }
     if args.frames.is_some() {
         return frames_cli::run_frames(&args);
     }
@@ -366,12 +374,23 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if let Some(pixel) = args.debug_pixel {
         return debug_pixel(&scene, pixel);
     }
+    if args.debug_strategies.is_some() {
+        debug_strategies::check_scene(&scene)?;
+    }
     let job = Job {
         args: &args,
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: interrupt::flag(),
     };
-    render_and_write(&job, (&scene, None), &exr_path, &png_path)
+    let code = render_and_write(&job, (&scene, None), &exr_path, &png_path)?;
+    if let Some(dir) = &args.debug_strategies {
+        if code == 0 {
+            debug_strategies::write(&args, &scene, dir, (&exr_path, &png_path))?;
+        } else {
+            eprintln!("note: the render was stopped: no --debug-strategies images written");
+        }
+    }
+    Ok(code)
 }
 
 /// Applies --spp, --max-depth, --seed, --aovs and --denoise to a loaded scene.
@@ -654,6 +673,13 @@ fn debug_pixel(scene: &brume::integrator::Scene, (x, y): (u32, u32)) -> Result<i
             &format!("{x},{y} is outside the {w}x{h} image: X must be below {w} and Y below {h}"),
         ));
     }
+    if scene.settings.integrator != brume::integrator::IntegratorKind::Path {
+        // A bidirectional pixel also gathers other pixels' light-tracing splats: its samples are not its value.
+        return Err(argument(
+            "--debug-pixel",
+            "replays the path tracer's samples only; this scene's [integrator] type is \"bdpt\"",
+        ));
+    }
     let spp = scene.settings.spp;
     let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
     let (mut finite, mut nonfinite) = (0u32, 0u32);
@@ -722,7 +748,8 @@ fn warn_extensions(exr: &Path, png: &Path) {
 /// process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, false);
+    let splats = scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt;
+    let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, splats);
     brume::limits::check(bytes as u128).map_err(|refusal| Error::Scene {
         file: file.to_path_buf(),
         field: "camera.resolution".into(),

@@ -1,0 +1,163 @@
+//! What light tracing needs of a BSDF: sampling the direction light leaves
+//! in, given the one it arrives from, with the radiance BSDF's value (the
+//! adjoint of the path tracer's sampling), and the probability of a delta
+//! lobe, which bidirectional MIS weighs like a density.
+//!
+//! Every BSDF here is sampled through [`Material::sample`] with the roles of
+//! the directions swapped. Reflection is reciprocal, so its weight carries
+//! over; refraction is not: radiance crossing into a denser medium is
+//! compressed by η², so a light path leaving glass for air carries 1/η²
+//! where the path tracer's ray entering it carried η² (Veach 1997, ch. 5).
+
+use super::{fresnel, relative_eta, BsdfSample, Material, Shading};
+use crate::math::color::Rgb;
+use crate::math::{Vec2, Vec3};
+
+impl Material {
+    /// Samples the direction `wo` light leaves in after arriving from
+    /// `wi` (toward the light), at a surface with outward shading normal
+    /// `normal`. The weight is `f(wo, wi)·|n·wi| / pdf` with the radiance
+    /// BSDF `f` of [`Material::eval`], the pdf that of `wo` given `wi`.
+    pub fn sample_adjoint(
+        &self,
+        normal: Vec3,
+        wi: Vec3,
+        u: Vec2,
+        u_lobe: f32,
+    ) -> Option<BsdfSample> {
+        let sp = Shading::facing(normal, wi);
+        let s = self.sample(&sp, wi, u, u_lobe)?;
+        let weight = if s.is_delta {
+            let crossed = sp.n.dot(s.wi) < 0.0;
+            match (*self, crossed) {
+                // The smooth interface's transmission: the inverse of the path tracer's compression.
+                (Material::Dielectric { ior, .. }, true) => {
+                    let eta = relative_eta(ior, &sp);
+                    Rgb::splat(eta * eta)
+                }
+                _ => s.weight,
+            }
+        } else {
+            if s.pdf <= 0.0 {
+                return None;
+            }
+            self.eval(&Shading::facing(normal, s.wi), s.wi, wi) / s.pdf
+        };
+        Some(BsdfSample { weight, ..s })
+    }
+
+    /// Probability that sampling at a delta surface from `wo` picks the lobe
+    /// that leads to `wi` (1 for mirrors, F or 1 − F for a smooth dielectric);
+    /// 0 for BSDFs that are not delta.
+    pub fn delta_pdf(&self, sp: &Shading, wo: Vec3, wi: Vec3) -> f32 {
+        if !self.is_delta() {
+            return 0.0;
+        }
+        match *self {
+            Material::Dielectric { ior, .. } => {
+                let f = fresnel::dielectric(sp.n.dot(wo), relative_eta(ior, sp));
+                if sp.n.dot(wi) >= 0.0 {
+                    f
+                } else {
+                    1.0 - f
+                }
+            }
+            _ => 1.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::ConductorFresnel;
+    use crate::sampling::Sampler;
+
+    /// The adjoint weight of every non-delta BSDF is `eval` of the swapped
+    /// pair over the pdf of the sampled direction, which is `pdf` with the
+    /// roles swapped (rough glass included, where `eval` is not symmetric).
+    #[test]
+    fn adjoint_weight_is_the_radiance_bsdf_of_the_swapped_pair() {
+        let n = Vec3::new(0.2, 1.0, -0.1).normalize();
+        let materials = [
+            Material::Diffuse {
+                albedo: Rgb::new(0.8, 0.5, 0.2),
+            },
+            Material::Phong {
+                albedo: Rgb::splat(0.7),
+                exponent: 12.0,
+            },
+            Material::Dielectric {
+                ior: 1.5,
+                alpha: 0.3,
+            },
+            Material::Conductor {
+                alpha: 0.2,
+                fresnel: ConductorFresnel::Schlick {
+                    f0: Rgb::new(0.9, 0.6, 0.3),
+                },
+            },
+        ];
+        let mut s = Sampler::from_seed(11);
+        for m in materials {
+            let mut checked = 0;
+            for _ in 0..2000 {
+                let wi = crate::sampling::warp::square_to_uniform_sphere(s.next_2d());
+                let Some(a) = m.sample_adjoint(n, wi, s.next_2d(), s.next_1d()) else {
+                    continue;
+                };
+                let want = m.eval(&Shading::facing(n, a.wi), a.wi, wi) / a.pdf;
+                let pdf = m.pdf(&Shading::facing(n, wi), wi, a.wi);
+                assert!(
+                    (a.pdf - pdf).abs() <= 1e-3 * pdf,
+                    "{m:?}: {} vs {pdf}",
+                    a.pdf
+                );
+                for c in 0..3 {
+                    assert!(
+                        (a.weight[c] - want[c]).abs() <= 1e-4 * want[c].max(1.0),
+                        "{m:?}"
+                    );
+                }
+                checked += 1;
+            }
+            assert!(checked > 500, "{m:?}: {checked}");
+        }
+    }
+
+    /// Smooth glass: light leaving glass (η 1.5) for air is compressed by
+    /// 1/1.5², entering it expanded by 1.5², the inverse of the path tracer's
+    /// weights; reflection keeps its weight; lobe probabilities are F and 1 − F.
+    #[test]
+    fn smooth_glass_adjoint_weights_and_lobe_probabilities() {
+        let glass = Material::Dielectric {
+            ior: 1.5,
+            alpha: 0.0,
+        };
+        let n = Vec3::Y;
+        let inside = Vec3::new(0.3, -1.0, 0.0).normalize();
+        let outside = Vec3::new(-0.3, 1.0, 0.2).normalize();
+        for (wi, expected) in [(inside, 1.0 / 2.25), (outside, 2.25)] {
+            // u_lobe near 1 picks refraction (F is small at these angles).
+            let a = glass
+                .sample_adjoint(n, wi, Vec2::splat(0.5), 0.999)
+                .expect("refracts");
+            assert!(a.is_delta && a.wi.y * wi.y < 0.0, "{:?}", a.wi);
+            assert!((a.weight.r - expected).abs() < 1e-5, "{:?}", a.weight);
+            let sp = Shading::facing(n, wi);
+            let f = fresnel::dielectric(sp.n.dot(wi), relative_eta(1.5, &sp));
+            assert!((glass.delta_pdf(&sp, wi, a.wi) - (1.0 - f)).abs() < 1e-6);
+            assert!((a.pdf - (1.0 - f)).abs() < 1e-6);
+            let r = glass
+                .sample_adjoint(n, wi, Vec2::splat(0.5), 0.0)
+                .expect("reflects");
+            assert_eq!(r.weight, Rgb::WHITE);
+            assert!((glass.delta_pdf(&sp, wi, r.wi) - f).abs() < 1e-6);
+        }
+        let diffuse = Material::Diffuse { albedo: Rgb::WHITE };
+        assert_eq!(
+            diffuse.delta_pdf(&Shading::facing(n, outside), outside, n),
+            0.0
+        );
+    }
+}
