@@ -67,7 +67,7 @@ pub fn vdb_load(data: &[u8]) {
 /// texture reader, from files in the folder `dir`, under
 /// [`IMAGE_MEMORY_LIMIT`].
 pub fn image_read(data: &[u8], dir: &Path) {
-    brume::limits::set_memory_limit(IMAGE_MEMORY_LIMIT);
+    brume::error::limits::set_memory_limit(IMAGE_MEMORY_LIMIT);
     let exr = dir.join("fuzz.exr");
     let png = dir.join("fuzz.png");
     if std::fs::write(&exr, data).is_err() || std::fs::write(&png, data).is_err() {

@@ -73,7 +73,7 @@ const LIMIT: usize = 64_000_000;
 const SMALL: usize = 1 << 20;
 
 fn serial() -> std::sync::MutexGuard<'static, ()> {
-    brume::limits::set_memory_limit(LIMIT as u64);
+    brume::error::limits::set_memory_limit(LIMIT as u64);
     SERIAL.lock().unwrap_or_else(|p| p.into_inner())
 }
 

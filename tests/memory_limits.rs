@@ -232,7 +232,7 @@ fn an_airlight_width_over_the_limit_is_refused_on_the_flag() {
     let dir = tempfile::tempdir().unwrap();
     let args = ["airlight", "--out", "air", "--spp", "1", "--width", "30000"];
     // The size is the render's peak, as for `camera.resolution`.
-    let needs = brume::limits::format_bytes(brume::render::peak_bytes(30000, 6000) as u128);
+    let needs = brume::error::limits::format_bytes(brume::render::peak_bytes(30000, 6000) as u128);
     let wanted = format!(
         "invalid argument --width: a 30000x6000 image needs {needs} of memory, more than the memory limit of 1.0 GB"
     );

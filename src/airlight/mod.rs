@@ -380,8 +380,8 @@ pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
     let (scene, text) = demo_scene(options)?;
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let bytes = crate::render::peak_bytes(w, h) as u128;
-    crate::limits::check(bytes).map_err(|refusal| {
-        let needs = crate::limits::format_bytes(bytes);
+    crate::error::limits::check(bytes).map_err(|refusal| {
+        let needs = crate::error::limits::format_bytes(bytes);
         argument(
             "--width",
             &format!("a {w}x{h} image needs {needs} of memory, {refusal}"),

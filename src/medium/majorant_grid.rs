@@ -76,7 +76,7 @@ impl std::fmt::Display for TooLarge {
             (Some([x, y, z]), Some(b)) => write!(
                 f,
                 "{x}x{y}x{z} cells ({}), {}",
-                crate::limits::format_bytes(b),
+                crate::error::limits::format_bytes(b),
                 self.reason
             ),
             _ => write!(f, "more cells than can be counted, {}", self.reason),
@@ -110,7 +110,7 @@ pub fn check_size(lo: Vec3, hi: Vec3, cell: Vec3) -> Result<IVec3, TooLarge> {
             i32::MAX
         )));
     }
-    crate::limits::check(bytes).map_err(|refusal| too_large(refusal.to_string()))?;
+    crate::error::limits::check(bytes).map_err(|refusal| too_large(refusal.to_string()))?;
     Ok(dims.as_ivec3())
 }
 

@@ -22,6 +22,11 @@ pub const MAX_SECONDS: u64 = 1_000_000_000;
 /// Largest accepted `--threads`: spawning a huge pool takes minutes and no machine needs it.
 pub const MAX_THREADS: u64 = 1024;
 
+/// `--set KEY=VALUE`: a scene key path and a TOML value (see [`crate::scene::Override`]).
+pub fn set(text: &str) -> Parsed<crate::scene::Override> {
+    text.parse()
+}
+
 /// `--threads N`: from 1 to [`MAX_THREADS`].
 pub fn threads(text: &str) -> Parsed<usize> {
     whole(1, MAX_THREADS)(text).map(|n| n as usize)

@@ -77,11 +77,11 @@ fn check_merged_size(pieces: &[(PathBuf, Film)]) -> Result<()> {
         .sum();
     let splats = 24 * first.splats.is_some() as u128;
     let bytes = w as u128 * h as u128 * (12 + layers + splats);
-    crate::limits::check(bytes).map_err(|refusal| Error::Merge {
+    crate::error::limits::check(bytes).map_err(|refusal| Error::Merge {
         message: format!(
             "{} declares a {w}x{h} image, whose merged film needs {}, {refusal}",
             path.display(),
-            crate::limits::format_bytes(bytes)
+            crate::error::limits::format_bytes(bytes)
         ),
     })
 }

@@ -15,11 +15,18 @@ use std::path::{Path, PathBuf};
 
 /// Fingerprint of the scene in `file` rendered with `settings` (seed and spp left out).
 pub fn scene_hash(file: &Path, settings: &Settings) -> Result<u64> {
-    frame_scene_hash(file, settings, None)
+    frame_scene_hash(file, settings, None, &[])
 }
 
-/// [`scene_hash`] of one frame of a sequence: the frame's own files, and the frame number.
-pub fn frame_scene_hash(file: &Path, settings: &Settings, frame: Option<i64>) -> Result<u64> {
+/// [`scene_hash`] of one frame of a sequence (the frame's own files, and the
+/// frame number) with the `--set` values applied (and hashed: pieces rendered
+/// with different values must not merge).
+pub fn frame_scene_hash(
+    file: &Path,
+    settings: &Settings,
+    frame: Option<i64>,
+    overrides: &[crate::scene::Override],
+) -> Result<u64> {
     let read = |path: &Path| {
         let problem = |message: String| Error::Input {
             path: path.to_path_buf(),
@@ -31,7 +38,11 @@ pub fn frame_scene_hash(file: &Path, settings: &Settings, frame: Option<i64>) ->
     let text = read(file)?;
     let mut hash = Hasher::new();
     hash.bytes(&text);
-    let desc = crate::scene::parse(&String::from_utf8_lossy(&text), file)?;
+    let desc =
+        crate::scene::parse_with_overrides(&String::from_utf8_lossy(&text), file, overrides)?;
+    for o in overrides {
+        hash.bytes(o.to_string().as_bytes());
+    }
     let base = file.parent().map(Path::to_path_buf).unwrap_or_default();
     for path in files_read(&desc, &base, frame) {
         hash.bytes(&read(&path)?);

@@ -70,9 +70,13 @@ pub fn files_read(desc: &SceneDesc, scene: &Path, frame: Option<i64>) -> Vec<Inp
 /// Adds to `plan` every file the scene in `scene` reads, for any frame:
 /// each named by its key, a frame pattern as the whole sequence on disk
 /// (see `Plan::input_sequence`). The scene is read and parsed once.
-pub fn add_to_plan(plan: &mut crate::render::output_safety::Plan, scene: &Path) -> Result<()> {
+pub fn add_to_plan(
+    plan: &mut crate::render::output_safety::Plan,
+    scene: &Path,
+    overrides: &[super::Override],
+) -> Result<()> {
     let text = super::read_scene_text(scene)?;
-    let desc = super::parse(&text, scene)?;
+    let desc = super::parse_with_overrides(&text, scene, overrides)?;
     for file in files_read(&desc, scene, None) {
         match &file.pattern {
             Some(pattern) => plan.input_sequence(&file.key, pattern),

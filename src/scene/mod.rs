@@ -57,8 +57,23 @@ pub fn load_with_inputs(path: &Path) -> Result<Loaded> {
 
 /// [`load_frame`], with the frame's input files and warnings.
 pub fn load_frame_with_inputs(path: &Path, frame: Option<i64>) -> Result<Loaded> {
+    load_frame_with_overrides(path, frame, &[])
+}
+
+/// [`load_frame_with_inputs`] with `--set` values; an error in a value they
+/// set says so, naming the `--set` that set it.
+pub fn load_frame_with_overrides(
+    path: &Path,
+    frame: Option<i64>,
+    overrides: &[Override],
+) -> Result<Loaded> {
+    load_overridden(path, frame, overrides).map_err(|e| overrides::name_the_set(e, overrides))
+}
+
+/// [`load_frame_with_overrides`] before errors are attributed.
+fn load_overridden(path: &Path, frame: Option<i64>, overrides: &[Override]) -> Result<Loaded> {
     let text = read_scene_text(path)?;
-    let desc = parse(&text, path)?;
+    let desc = parse_with_overrides(&text, path, overrides)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let (scene, warnings) = build_frame(&desc, path, &base, frame)?;
     let inputs = inputs::files_read(&desc, path, frame)
@@ -89,6 +104,17 @@ fn read_scene_text(path: &Path) -> Result<String> {
 
 /// Parses scene TOML; errors carry the line (syntax) or the dotted path of the culprit.
 pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
+    parse_with_overrides(text, file, &[])
+}
+
+/// [`parse`] with `--set` values applied to the TOML before anything reads
+/// it; an error in a value they set names the `--set`.
+pub fn parse_with_overrides(text: &str, file: &Path, overrides: &[Override]) -> Result<SceneDesc> {
+    parse_overridden(text, file, overrides).map_err(|e| overrides::name_the_set(e, overrides))
+}
+
+/// [`parse_with_overrides`] before errors are attributed.
+fn parse_overridden(text: &str, file: &Path, overrides: &[Override]) -> Result<SceneDesc> {
     let scene_error = |field: String, message: String| Error::Scene {
         file: file.to_path_buf(),
         field,
@@ -104,6 +130,8 @@ pub fn parse(text: &str, file: &Path) -> Result<SceneDesc> {
             e.message().trim().replace('\n', " "),
         )
     })?;
+    overrides::apply(&mut table, overrides)
+        .map_err(|(field, message)| scene_error(field, message))?;
     for (key, value) in table.iter() {
         animation::reject_keyframes(value, key)
             .map_err(|(field, message)| scene_error(field, message))?;

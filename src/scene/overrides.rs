@@ -113,6 +113,40 @@ pub fn apply(table: &mut toml::Table, overrides: &[Override]) -> Result<(), (Str
     Ok(())
 }
 
+/// `e` with the `--set` that wrote its field named, when one did (the last
+/// such, as it is the one that took effect).
+pub fn name_the_set(e: crate::error::Error, overrides: &[Override]) -> crate::error::Error {
+    match e {
+        crate::error::Error::Scene {
+            file,
+            field,
+            message,
+        } => {
+            // The set wrote the field, a value inside it, or a table it became.
+            let within = |inner: &str, outer: &str| {
+                inner == outer
+                    || inner
+                        .strip_prefix(outer)
+                        .is_some_and(|rest| rest.starts_with(['.', '[']))
+            };
+            let set_it = overrides
+                .iter()
+                .rev()
+                .find(|o| within(&field, &o.key) || within(&o.key, &field));
+            let message = match set_it {
+                Some(o) if !message.contains("(in --set") => format!("{message} (in {o})"),
+                _ => message,
+            };
+            crate::error::Error::Scene {
+                file,
+                field,
+                message,
+            }
+        }
+        other => other,
+    }
+}
+
 /// One override: walks the steps, then replaces the last one's value.
 fn set(top: &mut toml::Table, o: &Override) -> Result<(), String> {
     let mut here = TableOrArray::Table(top);

@@ -118,7 +118,7 @@ impl VdbFile {
     ///
     /// Refuses what is not a regular file (a FIFO would block, /dev/zero never
     /// ends) and files larger than [`MAX_VDB_BYTES`] or than the memory limit
-    /// ([`crate::limits`]), before reading a byte.
+    /// ([`crate::error::limits`]), before reading a byte.
     pub fn open(path: &Path) -> Result<VdbFile, VolumeError> {
         let io = |source| VolumeError::Io {
             path: path.to_path_buf(),
@@ -130,10 +130,10 @@ impl VdbFile {
         let mut file = std::fs::File::open(path).map_err(io)?;
         let len = file.metadata().map_err(io)?.len();
         // Held whole in memory: the file's length is the allocation.
-        if let Err(refusal) = crate::limits::check(len as u128) {
+        if let Err(refusal) = crate::error::limits::check(len as u128) {
             return Err(io(std::io::Error::other(format!(
                 "is {}, {refusal}",
-                crate::limits::format_bytes(len as u128)
+                crate::error::limits::format_bytes(len as u128)
             ))));
         }
         let mut data = Vec::new();

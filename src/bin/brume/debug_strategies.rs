@@ -88,7 +88,7 @@ pub fn write(
     }
     let name = |s: usize, t: usize, kind: &str| dir.join(format!("s{s}_t{t}_{kind}.exr"));
     let mut plan = Plan::new("render");
-    brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
+    brume::scene::inputs::add_to_plan(&mut plan, &args.scene, &args.set)?;
     plan.output("--out", exr, None).output("--png", png, None);
     for im in &images {
         for kind in ["weighted", "unweighted"] {

@@ -99,7 +99,7 @@ fn render_frame(job: &Job, frame: i64, exr: &Path, png: &Path) -> Result<i32> {
     let args = job.args;
     // Loading has nothing to save: a stop request while it runs exits at once.
     interrupt::saving(false);
-    let loaded = brume::scene::load_frame_with_inputs(&args.scene, Some(frame))?;
+    let loaded = brume::scene::load_frame_with_overrides(&args.scene, Some(frame), &args.set)?;
     for w in &loaded.warnings {
         eprintln!("warning: frame {frame}: {w}");
     }
@@ -118,7 +118,7 @@ fn check_sequence_outputs(
     png_pattern: &Path,
 ) -> Result<()> {
     let mut plan = brume::render::output_safety::Plan::new("render");
-    brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
+    brume::scene::inputs::add_to_plan(&mut plan, &args.scene, &args.set)?;
     plan.image_output_frames("--out", exr_pattern, frames);
     plan.image_output_frames("--png", png_pattern, frames);
     plan.check()?;

@@ -26,7 +26,7 @@ struct Cli {
     command: Command,
     /// Largest image, grid or file brume allocates, in GB (default: half of
     /// this machine's memory, or BRUME_MEMORY_LIMIT); see docs/robustness.md "Limits".
-    #[arg(long, global = true, value_name = "GB", allow_negative_numbers = true, value_parser = brume::limits::parse_gb)]
+    #[arg(long, global = true, value_name = "GB", allow_negative_numbers = true, value_parser = brume::error::limits::parse_gb)]
     memory_limit: Option<u64>,
 }
 
@@ -119,6 +119,10 @@ struct InfoArgs {
 struct RenderArgs {
     /// The scene file (TOML).
     scene: PathBuf,
+    /// Set a scene value before validation, as TOML (repeatable): `--set camera.resolution=[640,360]
+    /// --set integrator.spp=64 --set shape[2].material.albedo=0.5`; a bare word is a string.
+    #[arg(long = "set", value_name = "KEY=VALUE", value_parser = values::set)]
+    set: Vec<brume::scene::Override>,
     /// Samples per pixel (overrides the scene's integrator.spp).
     #[arg(long, allow_negative_numbers = true, value_name = "N", value_parser = values::whole(1u32, u32::MAX))]
     spp: Option<u32>,
@@ -188,10 +192,10 @@ fn main() {
     let cli = parse_command_line();
     let result = match cli.memory_limit {
         Some(bytes) => {
-            brume::limits::set_memory_limit(bytes);
+            brume::error::limits::set_memory_limit(bytes);
             Ok(())
         }
-        None => brume::limits::check_setting().map(|_| ()),
+        None => brume::error::limits::check_setting().map(|_| ()),
     };
     let result = result.and_then(|()| match cli.command {
         Command::Render(args) => run_render(*args),
@@ -359,13 +363,13 @@ fn run_render(args: RenderArgs) -> Result<i32> {
     if args.debug_pixel.is_none() {
         // Before the scene's volumes are loaded: a refused run does no work.
         let mut plan = Plan::new("render");
-        brume::scene::inputs::add_to_plan(&mut plan, &args.scene)?;
+        brume::scene::inputs::add_to_plan(&mut plan, &args.scene, &args.set)?;
         plan.image_output("--out", &exr_path, None);
         plan.image_output("--png", &png_path, None);
         plan.check()?;
         warn_extensions(&exr_path, &png_path);
     }
-    let loaded = brume::scene::load_with_inputs(&args.scene)?;
+    let loaded = brume::scene::load_frame_with_overrides(&args.scene, None, &args.set)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }
@@ -450,8 +454,12 @@ fn render_and_write(
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let part =
         brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
-    let scene_hash =
-        brume::render::provenance::frame_scene_hash(&args.scene, &scene.settings, frame)?;
+    let scene_hash = brume::render::provenance::frame_scene_hash(
+        &args.scene,
+        &scene.settings,
+        frame,
+        &args.set,
+    )?;
     check_memory(scene, &args.scene)?;
     let options = RenderOptions {
         spp: scene.settings.spp,
@@ -750,12 +758,12 @@ fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let splats = scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt;
     let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, splats);
-    brume::limits::check(bytes as u128).map_err(|refusal| Error::Scene {
+    brume::error::limits::check(bytes as u128).map_err(|refusal| Error::Scene {
         file: file.to_path_buf(),
         field: "camera.resolution".into(),
         message: format!(
             "a {w}x{h} image needs {} of memory, {refusal}",
-            brume::limits::format_bytes(bytes as u128)
+            brume::error::limits::format_bytes(bytes as u128)
         ),
     })
 }

@@ -10,10 +10,10 @@
 //!    A file of a few hundred bytes declaring gigabytes is damaged, and
 //!    raising the memory limit would not help, so this comes first. The
 //!    allocation a valid file needs is then proportional to its length.
-//! 2. The decoded image must fit the memory limit ([`crate::limits`]).
+//! 2. The decoded image must fit the memory limit ([`crate::error::limits`]).
 
+use crate::error::limits::{self, format_bytes};
 use crate::error::{Error, Result};
-use crate::limits::{self, format_bytes};
 use exr::compression::Compression;
 use exr::meta::attribute::SampleType;
 use exr::meta::header::Header;

@@ -1,5 +1,7 @@
 //! The one error type of brume, with the exit code each kind maps to.
 
+pub mod limits;
+
 use std::path::PathBuf;
 
 /// Everything that can stop brume, each naming the file and the culprit.
