@@ -5,9 +5,11 @@
 //! leave every file that existed before (scene, inputs, an earlier image)
 //! byte for byte as it was.
 
+mod common;
+
 use assert_cmd::cargo::CommandCargoExt;
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use common::cli::{run_brume, snapshot};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -135,48 +137,11 @@ fn setup(dir: &Path, scene_text: &str) {
     std::fs::write(dir.join("glow.vdb"), glow).unwrap();
 }
 
-/// Contents of every regular file in `dir` (FIFOs and folders left out).
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    for e in std::fs::read_dir(dir).unwrap() {
-        let p = e.unwrap().path();
-        let meta = std::fs::symlink_metadata(&p).unwrap();
-        if meta.is_file() {
-            out.insert(p.clone(), std::fs::read(&p).unwrap());
-        }
-    }
-    out
-}
-
-/// Runs brume in `dir` with `args`; returns (exit code, stderr, seconds).
+/// Runs brume in `dir` with `args` under [`TIMEOUT`] (a hang fails the test); returns (exit code, stderr, seconds).
 fn run(dir: &Path, args: &[&str]) -> (Option<i32>, String, f64) {
-    let start = Instant::now();
-    let mut child = Command::cargo_bin("brume")
-        .unwrap()
-        .current_dir(dir)
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > TIMEOUT {
-            child.kill().unwrap();
-            let out = child.wait_with_output().unwrap();
-            panic!(
-                "brume {args:?} did not finish within {TIMEOUT:?}: {}",
-                String::from_utf8_lossy(&out.stderr)
-            );
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    let out = child.wait_with_output().unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-        start.elapsed().as_secs_f64(),
-    )
+    let args: Vec<String> = args.iter().map(|a| a.to_string()).collect();
+    let out = run_brume(dir, &args, TIMEOUT);
+    (out.code, out.stderr, out.seconds)
 }
 
 /// One case: the scene text, the command line, the exit code and what stderr must name.
