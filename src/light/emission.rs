@@ -190,17 +190,7 @@ impl Light {
             (geometry, None)
         };
         let total = *cumulative_area.last()?;
-        let target = u_pos.x * total;
-        let k = cumulative_area
-            .partition_point(|&c| c <= target)
-            .min(primitives.len() - 1);
-        let lo = if k == 0 { 0.0 } else { cumulative_area[k - 1] };
-        let width = cumulative_area[k] - lo;
-        let ux = if width > 0.0 {
-            ((target - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
-        } else {
-            0.0
-        };
+        let (k, ux) = super::pick_by_area(cumulative_area, primitives.len(), u_pos.x)?;
         let prim: &Primitive = &local_geometry.primitives()[primitives[k] as usize];
         let a = prim.sample_area(Vec2::new(ux, u_pos.y));
         let le = match radiance.constant() {

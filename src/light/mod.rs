@@ -401,18 +401,7 @@ impl Light {
             }
         }
         let total = *cumulative_area.last()?;
-        let target = u.x * total;
-        let k = cumulative_area
-            .partition_point(|&c| c <= target)
-            .min(primitives.len() - 1);
-        let lo = if k == 0 { 0.0 } else { cumulative_area[k - 1] };
-        let width = cumulative_area[k] - lo;
-        // Reuse the remainder of u.x inside the chosen primitive.
-        let ux = if width > 0.0 {
-            ((target - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
-        } else {
-            0.0
-        };
+        let (k, ux) = pick_by_area(cumulative_area, primitives.len(), u.x)?;
         let prim: &Primitive = &geometry.primitives()[primitives[k] as usize];
         let a = prim.sample_area(Vec2::new(ux, u.y));
         let d = a.p - p;
@@ -560,3 +549,22 @@ fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
 
 #[cfg(test)]
 mod tests;
+
+/// The primitive of an emissive shape picked by area from `cumulative_area`
+/// (one entry per primitive, `count` of them) with `u`, and the remainder
+/// of `u` inside it, reused to place the point on the primitive.
+pub(crate) fn pick_by_area(cumulative_area: &[f32], count: usize, u: f32) -> Option<(usize, f32)> {
+    let total = *cumulative_area.last()?;
+    let target = u * total;
+    let k = cumulative_area
+        .partition_point(|&c| c <= target)
+        .min(count - 1);
+    let lo = if k == 0 { 0.0 } else { cumulative_area[k - 1] };
+    let width = cumulative_area[k] - lo;
+    let rest = if width > 0.0 {
+        ((target - lo) / width).clamp(0.0, 1.0 - f32::EPSILON)
+    } else {
+        0.0
+    };
+    Some((k, rest))
+}
