@@ -4,15 +4,17 @@
 For each integrator named (path, bdpt, ...) the scene is rendered for the
 same wall-clock budget (`brume render --time SECONDS`, a different seed
 than the reference) and compared with the reference by `brume compare`.
-The reference is one long render of REF_INTEGRATOR made as two sample
+Each render gets `--set integrator.type=NAME`, so the scene file's own
+choice never leaks into another integrator's row. The reference is one long render of REF_INTEGRATOR made as two sample
 ranges (`--samples`), merged by `brume merge`; the difference of its halves
 estimates its own noise, which is subtracted from each run's squared error.
 
     python3 tools/equal_time.py scenes/mirror_beam.toml --integrators path,bdpt \\
-        --seconds 20 --reference-spp 4096 --reference-integrator bdpt
+        --seconds 20 --reference-spp 4096 --reference-integrator bdpt --repeats 3
 
 Prints a Markdown table: integrator, samples per pixel reached, seconds,
-RMSE (reference noise removed), efficiency 1 / (MSE · seconds) and the
+RMSE (reference noise removed), efficiency 1 / (MSE · seconds), each the
+median over `--repeats` seeds (efficiency with its min–max), and the
 efficiency relative to the first integrator. Only the Python standard
 library and the brume binary are needed (BRUME, default target/release/brume).
 Renders run one at a time under the CPU lock (BRUME_CPU_LOCK, default
@@ -26,6 +28,7 @@ import math
 import os
 import re
 import subprocess
+import statistics
 import sys
 from contextlib import contextmanager
 from pathlib import Path
@@ -48,32 +51,9 @@ def cpu_lock():
             fcntl.flock(f, fcntl.LOCK_UN)
 
 
-def with_integrator(scene: Path, integrator: str, work: Path) -> Path:
-    """A copy of `scene` beside it whose [integrator] table says `type = integrator`
-    (the scene itself for the default, path)."""
-    if integrator == "path":
-        return scene
-    lines = scene.read_text().splitlines()
-    out, in_table, done = [], False, False
-    for line in lines:
-        stripped = line.strip()
-        if stripped.startswith("["):
-            if in_table and not done:
-                out.append(f'type = "{integrator}"')
-                done = True
-            in_table = stripped == "[integrator]"
-        elif in_table and re.match(r"type\s*=", stripped):
-            continue
-        out.append(line)
-    if in_table and not done:
-        out.append(f'type = "{integrator}"')
-        done = True
-    if not done:
-        out += ["", "[integrator]", f'type = "{integrator}"']
-    # Beside the original, so relative paths (meshes, volumes) still resolve.
-    path = scene.parent / f".{scene.stem}.{integrator}.equal-time.toml"
-    path.write_text("\n".join(out) + "\n")
-    return path
+def integrator_flag(integrator: str) -> list:
+    """The `--set` that makes a render use `integrator`, whatever the scene file says."""
+    return ["--set", f'integrator.type="{integrator}"']
 
 
 def run(cmd):
@@ -97,25 +77,20 @@ def rmse(a, b):
     return float(RMSE_RE.search(r.stdout).group(1))
 
 
-def reference(scene, args, work):
+def reference(scene, args):
     """(reference EXR, variance of its error): cached by scene text and settings."""
-    tagged = with_integrator(scene, args.reference_integrator, work)
     key = hashlib.sha256(
-        (tagged.read_text() + f"{args.reference_spp} {args.reference_integrator}").encode()
+        (scene.read_text() + f"{args.reference_spp} {args.reference_integrator}").encode()
     ).hexdigest()[:16]
-    if tagged != scene:
-        tagged.unlink()
     ref = CACHE / f"{scene.stem}-{key}.exr"
     halves = [CACHE / f"{scene.stem}-{key}-{i}.exr" for i in (0, 1)]
     if not ref.exists():
         CACHE.mkdir(parents=True, exist_ok=True)
         n = args.reference_spp
-        tagged = with_integrator(scene, args.reference_integrator, work)
         for i, (lo, hi) in enumerate([(0, n // 2), (n // 2, n)]):
-            spp, secs = render(tagged, halves[i], "--spp", n, "--samples", f"{lo}..{hi}")
+            spp, secs = render(scene, halves[i], *integrator_flag(args.reference_integrator),
+                               "--spp", n, "--samples", f"{lo}..{hi}")
             print(f"reference half {i}: samples {lo}..{hi} in {secs:.1f} s", file=sys.stderr)
-        if tagged != scene:
-            tagged.unlink()
         run([BRUME, "merge", *halves, "-o", ref, "--png", ref.with_suffix(".png")])
     # ref = (a + b) / 2, so var(ref) = E[(a - b)^2] / 4.
     return ref, rmse(halves[0], halves[1]) ** 2 / 4
@@ -129,28 +104,32 @@ def main():
     p.add_argument("--reference-spp", type=int, default=4096)
     p.add_argument("--reference-integrator", default="path")
     p.add_argument("--seed", type=int, default=12345)
+    p.add_argument("--repeats", type=int, default=1,
+                   help="runs per integrator (seeds SEED, SEED+1, ...); the table shows medians")
     p.add_argument("--work", type=Path, default=CACHE / "runs")
     args = p.parse_args()
     args.work.mkdir(parents=True, exist_ok=True)
     scene = args.scene.resolve()
-    ref, ref_var = reference(scene, args, args.work)
+    ref, ref_var = reference(scene, args)
     rows = []
     for name in args.integrators.split(","):
-        tagged = with_integrator(scene, name, args.work)
-        out = args.work / f"{scene.stem}-{name}.exr"
-        try:
-            spp, secs = render(tagged, out, "--time", args.seconds, "--seed", args.seed)
-        finally:
-            if tagged != scene:
-                tagged.unlink()
-        mse = max(rmse(out, ref) ** 2 - ref_var, 1e-30)
-        rows.append((name, spp, secs, math.sqrt(mse), 1.0 / (mse * secs)))
-    print(f"Scene `{args.scene}`, {args.seconds:g} s each; reference: {args.reference_integrator},"
-          f" {args.reference_spp} spp (its own RMSE {math.sqrt(ref_var):.3g}, removed).\n")
-    print("| integrator | spp | seconds | RMSE | efficiency 1/(MSE·s) | relative |")
+        runs = []
+        for r in range(args.repeats):
+            out = args.work / f"{scene.stem}-{name}-{r}.exr"
+            spp, secs = render(scene, out, *integrator_flag(name),
+                               "--time", args.seconds, "--seed", args.seed + r)
+            mse = max(rmse(out, ref) ** 2 - ref_var, 1e-30)
+            runs.append((spp, secs, mse, 1.0 / (mse * secs)))
+        rows.append((name, *(statistics.median(x) for x in zip(*runs)),
+                     min(x[3] for x in runs), max(x[3] for x in runs)))
+    print(f"Scene `{args.scene}`, {args.seconds:g} s each, median of {args.repeats} run(s);"
+          f" reference: {args.reference_integrator}, {args.reference_spp} spp"
+          f" (its own RMSE {math.sqrt(ref_var):.3g}, removed).\n")
+    print("| integrator | spp | seconds | RMSE | efficiency 1/(MSE·s) (min–max) | relative |")
     print("| --- | ---: | ---: | ---: | ---: | ---: |")
-    for name, spp, secs, e, eff in rows:
-        print(f"| {name} | {spp} | {secs:.1f} | {e:.4g} | {eff:.4g} | {eff / rows[0][4]:.2f}× |")
+    for name, spp, secs, mse, eff, lo, hi in rows:
+        print(f"| {name} | {spp:g} | {secs:.1f} | {math.sqrt(mse):.4g} | {eff:.4g} ({lo:.4g}–{hi:.4g})"
+              f" | {eff / rows[0][4]:.2f}× |")
 
 
 if __name__ == "__main__":
