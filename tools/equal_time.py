@@ -50,9 +50,7 @@ def cpu_lock():
 
 def with_integrator(scene: Path, integrator: str, work: Path) -> Path:
     """A copy of `scene` beside it whose [integrator] table says `type = integrator`
-    (the scene itself for the default, path)."""
-    if integrator == "path":
-        return scene
+    (a copy for path too: the scene may name another integrator)."""
     lines = scene.read_text().splitlines()
     out, in_table, done = [], False, False
     for line in lines:

@@ -43,8 +43,10 @@ use std::sync::RwLock;
 /// Light paths traced per pass unless `integrator.photons` says otherwise.
 pub const DEFAULT_PHOTONS: u32 = 100_000;
 
-/// Most light paths per pass (`integrator.photons`): about 2 GB of photons at depth 10.
-pub const MAX_PHOTONS: u32 = 20_000_000;
+/// Most light paths per pass (`integrator.photons`): photons take about
+/// 150 bytes each at their peak (traced, copied into the map, gridded), so
+/// light paths that leave ten photons each stay near 3 GB.
+pub const MAX_PHOTONS: u32 = 2_000_000;
 
 /// The default first radius as a fraction of the radius of the sphere
 /// around the scene (shapes, camera and point lights).
