@@ -188,7 +188,6 @@ fn photon_keys_are_validated_in_the_users_words() {
             "integrator.radius",
             "must be positive",
         ),
-        ("radius = 0.1", "integrator.radius", "needs type = \"sppm\""),
         (
             "type = \"photons\"",
             "integrator.type",

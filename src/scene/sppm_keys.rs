@@ -1,5 +1,5 @@
 //! The keys of `[integrator] type = "sppm"`: photons per pass, first
-//! radius and radius-reduction exponent, refused on the other integrators.
+//! radius and radius-reduction exponent (a warning on the other integrators).
 
 use super::description::IntegratorDesc;
 use super::validate::Check;
@@ -14,14 +14,16 @@ pub(super) fn build(integ: &IntegratorDesc, check: &Check) -> Result<SppmSetting
             ("radius", integ.radius.is_some()),
             ("alpha", integ.alpha.is_some()),
         ] {
+            // A warning, not an error: switching a photon-mapping scene to
+            // another integrator (`--set integrator.type=bdpt`) keeps its keys.
             if given {
-                return Err(check.error(
+                check.warn(
                     &format!("integrator.{key}"),
                     format!(
-                        "is a photon-mapping setting: it needs type = \"sppm\" (this scene's integrator is `{}`)",
+                        "is a photon-mapping setting, ignored by type = \"{}\" (only \"sppm\" uses it)",
                         integ.kind
                     ),
-                ));
+                );
             }
         }
         return Ok(SppmSettings::default());
