@@ -15,6 +15,7 @@ fn settings(shutter: Option<[f32; 2]>) -> Settings {
         equiangular: false,
         shutter,
         sampler: brume::sampling::SamplerKind::Independent,
+        sppm: Default::default(),
     }
 }
 

@@ -10,6 +10,7 @@ pub mod aov;
 pub mod bdpt;
 mod direct;
 mod equiangular;
+pub mod sppm;
 pub mod tracking;
 
 use crate::camera::Camera;
@@ -33,6 +34,8 @@ pub enum IntegratorKind {
     Path,
     /// Bidirectional path tracing ([`bdpt`]).
     Bdpt,
+    /// Stochastic progressive photon mapping ([`sppm`]).
+    Sppm,
 }
 
 /// Sampling settings of a render.
@@ -59,6 +62,8 @@ pub struct Settings {
     pub shutter: Option<[f32; 2]>,
     /// How pixel samples draw their random numbers.
     pub sampler: SamplerKind,
+    /// Photon counts and radii of `integrator = sppm` (unused by the others).
+    pub sppm: sppm::SppmSettings,
 }
 
 impl Settings {
@@ -205,6 +210,54 @@ enum Step {
 /// exactly direct lighting, including light that NEE cannot sample (delta
 /// BSDFs, emissive media).
 pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Rgb {
+    li_gathering(scene, ray, sampler, &mut NoGather)
+}
+
+/// What a photon-mapping eye path asks of [`li`]: told of every segment and
+/// non-Dirac surface vertex before the first non-Dirac scattering event, it
+/// adds the indirect light there; [`li`] then stops scattering after that
+/// event (its direct light and the emission it meets are still gathered).
+pub(crate) trait Gather {
+    /// False for the plain path tracer: no calls, no early stop.
+    const ACTIVE: bool;
+    /// `ray` crosses the media over `[0, t_surface)` with `throughput`, after `depth` scattering events.
+    fn segment(
+        &mut self,
+        scene: &Scene,
+        ray: &Ray,
+        t_surface: f32,
+        throughput: Rgb,
+        depth: u32,
+        sampler: &mut Sampler,
+    );
+    /// A surface vertex with a non-Dirac BSDF, reached after `depth` scattering events.
+    fn surface(
+        &mut self,
+        scene: &Scene,
+        hit: &SurfaceHit,
+        material: &Material,
+        wo: Vec3,
+        throughput: Rgb,
+        depth: u32,
+    );
+}
+
+/// The path tracer's [`Gather`]: nothing.
+struct NoGather;
+
+impl Gather for NoGather {
+    const ACTIVE: bool = false;
+    fn segment(&mut self, _: &Scene, _: &Ray, _: f32, _: Rgb, _: u32, _: &mut Sampler) {}
+    fn surface(&mut self, _: &Scene, _: &SurfaceHit, _: &Material, _: Vec3, _: Rgb, _: u32) {}
+}
+
+/// [`li`] with `gather` told of the path's vertices up to its first non-Dirac scattering event.
+pub(crate) fn li_gathering<G: Gather>(
+    scene: &Scene,
+    ray: Ray,
+    sampler: &mut Sampler,
+    gather: &mut G,
+) -> Rgb {
     let mut path = PathState {
         ray,
         throughput: Rgb::WHITE,
@@ -217,16 +270,31 @@ pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Rgb {
         scatter_depth: 0,
         emission_only: scene.settings.max_depth == 0 || scene.settings.max_scatter_depth == 0,
     };
-    while let Step::Continue = trace_segment(scene, &mut path, sampler) {}
+    while let Step::Continue = trace_segment(scene, &mut path, sampler, gather) {}
     path.radiance
 }
 
 /// Follows the path's current ray to its next vertex, adding what it gathers on the way.
-fn trace_segment(scene: &Scene, path: &mut PathState, sampler: &mut Sampler) -> Step {
+fn trace_segment<G: Gather>(
+    scene: &Scene,
+    path: &mut PathState,
+    sampler: &mut Sampler,
+    gather: &mut G,
+) -> Step {
     let hit = scene.geometry.intersect(&path.ray, f32::INFINITY);
     if !scene.media.is_empty() {
         let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
-        if let Some(step) = medium_segment(scene, path, t_surface, sampler) {
+        if G::ACTIVE && !path.emission_only {
+            gather.segment(
+                scene,
+                &path.ray,
+                t_surface,
+                path.throughput,
+                path.depth,
+                sampler,
+            );
+        }
+        if let Some(step) = medium_segment(scene, path, t_surface, sampler, G::ACTIVE) {
             return step;
         }
     }
@@ -244,16 +312,18 @@ fn trace_segment(scene: &Scene, path: &mut PathState, sampler: &mut Sampler) -> 
     if path.emission_only {
         return Step::Stop;
     }
-    surface_vertex(scene, path, &hit, sampler)
+    surface_vertex(scene, path, &hit, sampler, gather)
 }
 
 /// Free flight through the media up to `t_surface`, with equiangular sampling
 /// toward point lights; `None` when the ray reaches the surface (or escapes).
+/// With `last_event`, a medium event is the path's last scattering event.
 fn medium_segment(
     scene: &Scene,
     path: &mut PathState,
     t_surface: f32,
     sampler: &mut Sampler,
+    last_event: bool,
 ) -> Option<Step> {
     // An equiangular sample is one more scattering event: not past the last one.
     let segment = if path.emission_only {
@@ -298,8 +368,7 @@ fn medium_segment(
                 scene,
                 path,
                 path.ray.spawn(p, ps.direction),
-                ps.pdf,
-                false,
+                (ps.pdf, false, last_event),
                 p,
                 sampler,
             ))
@@ -335,16 +404,20 @@ fn add_surface_emission(scene: &Scene, path: &mut PathState, hit: &SurfaceHit) {
 }
 
 /// A surface scattering vertex: light sampling, then a BSDF-sampled continuation.
-fn surface_vertex(
+fn surface_vertex<G: Gather>(
     scene: &Scene,
     path: &mut PathState,
     hit: &SurfaceHit,
     sampler: &mut Sampler,
+    gather: &mut G,
 ) -> Step {
     let wo = -path.ray.direction;
     let material = &scene.material_at(hit);
     let shading = Shading::facing(hit.shading_normal, wo);
     if !material.is_delta() {
+        if G::ACTIVE {
+            gather.surface(scene, hit, material, wo, path.throughput, path.depth);
+        }
         let vertex = Vertex::Surface {
             hit,
             shading,
@@ -362,19 +435,28 @@ fn surface_vertex(
     let ray = path
         .ray
         .spawn(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
-    continue_path(scene, path, ray, bs.pdf, bs.is_delta, hit.p, sampler)
+    let stop = G::ACTIVE && !bs.is_delta;
+    continue_path(
+        scene,
+        path,
+        ray,
+        (bs.pdf, bs.is_delta, stop),
+        hit.p,
+        sampler,
+    )
 }
 
 /// Moves the path onto the sampled continuation `ray` from vertex `p`.
 ///
+/// `(pdf, is_delta, last)`: the direction's density, whether a Dirac lobe
+/// gave it, and whether the vertex is the last scattering event anyway.
 /// Past the last vertex the depth limits allow, the new ray is marked
 /// emission-only. Russian roulette may end the path here.
 fn continue_path(
     scene: &Scene,
     path: &mut PathState,
     ray: Ray,
-    pdf: f32,
-    is_delta: bool,
+    (pdf, is_delta, last): (f32, bool, bool),
     p: Vec3,
     sampler: &mut Sampler,
 ) -> Step {
@@ -384,8 +466,9 @@ fn continue_path(
     path.prev_point = p;
     path.ray = ray;
     path.depth += 1;
-    path.emission_only =
-        path.depth >= settings.max_depth || path.scatter_depth >= settings.max_scatter_depth;
+    path.emission_only = last
+        || path.depth >= settings.max_depth
+        || path.scatter_depth >= settings.max_scatter_depth;
     if russian_roulette(&mut path.throughput, path.depth, settings.rr_depth, sampler) {
         Step::Continue
     } else {

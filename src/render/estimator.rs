@@ -5,6 +5,7 @@ use crate::film::Splat;
 use crate::integrator::{li, Scene};
 use crate::math::color::Rgb;
 use crate::sampling::PixelStreams;
+use std::sync::atomic::AtomicBool;
 
 /// A camera-sample estimator the driver runs for every (pixel, sample index).
 ///
@@ -25,6 +26,20 @@ pub trait Estimator: Sync {
     /// True when `sample` may push splats: the film then keeps splat sums
     /// over the display window, divided by the samples per pixel of the render.
     fn splats(&self) -> bool;
+
+    /// `Some(n)` for an estimator whose samples depend on work shared by all
+    /// pixels (a photon pass): passes then hold `n` sample indices and
+    /// [`Estimator::prepare`] runs before each. `None` (the default): any.
+    fn pass_samples(&self) -> Option<u32> {
+        None
+    }
+
+    /// Prepares sample index `s` of every pixel before any pixel takes it
+    /// (called only when [`Estimator::pass_samples`] is `Some`); false when
+    /// `cancel` stopped it, and the pass is then not rendered.
+    fn prepare(&self, _scene: &Scene, _s: u32, _cancel: &AtomicBool) -> bool {
+        true
+    }
 
     /// The radiance of sample `s` of pixel (`x`, `y`) (NaN or infinite
     /// values are counted and left out by the film); pushes any splats.

@@ -169,6 +169,10 @@ pub fn render_part(
             render_part_with(scene, &PathTracer, options, part, cancel, on_pass)
         }
         IntegratorKind::Bdpt => render_part_with(scene, &Bdpt, options, part, cancel, on_pass),
+        IntegratorKind::Sppm => {
+            let sppm = crate::integrator::sppm::Sppm::new(scene);
+            render_part_with(scene, &sppm, options, part, cancel, on_pass)
+        }
     }
 }
 

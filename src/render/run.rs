@@ -41,7 +41,11 @@ impl<'a, E: Estimator> Run<'a, E> {
             aovs,
             film,
             bufs,
-            bar: progress_bar(options, job.part.crop.height() as u64),
+            bar: progress_bar(
+                options,
+                job.part.crop.height() as u64,
+                job.estimator.pass_samples(),
+            ),
             start: Instant::now(),
             spp_done: 0,
             partial: false,
@@ -64,11 +68,13 @@ impl<'a, E: Estimator> Run<'a, E> {
 
     /// Renders groups of passes until the budget is spent or `cancel` is set.
     pub fn passes(&mut self, mut on_pass: Option<PassObserver>) {
-        let pass_spp = pass_size(self.options);
+        let prepared = self.job.estimator.pass_samples();
+        let pass_spp = prepared.unwrap_or_else(|| pass_size(self.options));
         let crop = self.job.part.crop;
         let (w, h) = (crop.width() as usize, crop.height() as usize);
-        // Observers look at the image after every pass; splats are kept per pass.
-        let one_pass = on_pass.is_some() || self.job.estimator.splats();
+        // Observers look at the image after every pass; splats are kept per
+        // pass; a prepared pass is prepared for its own samples only.
+        let one_pass = on_pass.is_some() || self.job.estimator.splats() || prepared.is_some();
         let group_pixels = GROUP_BYTES / pass_pixel_bytes(!self.aovs.is_empty());
         while self.budget_left() {
             if self.cancel.load(Ordering::Relaxed) {
@@ -83,13 +89,18 @@ impl<'a, E: Estimator> Run<'a, E> {
                 w * h,
                 group_pixels,
             );
+            let first = self.job.part.samples.start + self.spp_done;
+            if prepared.is_some() && !self.prepare(first, counts[0]) {
+                self.partial = true;
+                break;
+            }
             let group = Group {
                 scene: self.job.scene,
                 estimator: self.job.estimator,
                 w,
                 h,
                 origin: (crop.x0, crop.y0),
-                first: self.job.part.samples.start + self.spp_done,
+                first,
                 counts: &counts,
                 with_aovs: !self.aovs.is_empty(),
                 cancel: self.cancel,
@@ -115,6 +126,12 @@ impl<'a, E: Estimator> Run<'a, E> {
             }
         }
         self.bar.finish_and_clear();
+    }
+
+    /// Runs the estimator's preparation of samples `first..first + count`;
+    /// false when a stop request cut it short.
+    fn prepare(&self, first: u32, count: u32) -> bool {
+        (first..first + count).all(|s| self.job.estimator.prepare(self.job.scene, s, self.cancel))
     }
 
     /// Adds pass `k` of the group's buffers (`count` samples) to the film.
@@ -225,14 +242,18 @@ fn pass_size(options: &RenderOptions) -> u32 {
     }
 }
 
-fn progress_bar(options: &RenderOptions, rows: u64) -> ProgressBar {
+/// The bar of a render of `rows` rows per pass, its passes of `pass_samples` (or [`pass_size`]).
+fn progress_bar(options: &RenderOptions, rows: u64, pass_samples: Option<u32>) -> ProgressBar {
     if !options.progress {
         return ProgressBar::hidden();
     }
     let bar = match options.time_budget {
         // The length of a timed render is unknown: show a spinner with rates.
         Some(_) => ProgressBar::new_spinner(),
-        None => ProgressBar::new(rows * options.spp.div_ceil(pass_size(options)) as u64),
+        None => {
+            let pass = pass_samples.unwrap_or_else(|| pass_size(options));
+            ProgressBar::new(rows * options.spp.div_ceil(pass) as u64)
+        }
     };
     bar.set_draw_target(ProgressDrawTarget::stderr());
     let template = if options.time_budget.is_some() {

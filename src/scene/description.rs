@@ -275,7 +275,7 @@ fn default_resolution() -> [u32; 2] {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorDesc {
-    /// Estimator: path (the default) or bdpt.
+    /// Estimator: path (the default), bdpt or sppm.
     #[serde(default = "default_integrator_type", rename = "type")]
     pub kind: String,
     /// Samples per pixel.
@@ -302,6 +302,15 @@ pub struct IntegratorDesc {
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.
     #[serde(default = "default_sampler")]
     pub sampler: String,
+    /// sppm: light paths traced per pass.
+    #[serde(default)]
+    pub photons: Option<u32>,
+    /// sppm: gather radius of the first pass, in scene units.
+    #[serde(default)]
+    pub radius: Option<f32>,
+    /// sppm: radius-reduction exponent α in (0, 1).
+    #[serde(default)]
+    pub alpha: Option<f32>,
 }
 
 fn default_integrator_type() -> String {
@@ -332,6 +341,9 @@ impl Default for IntegratorDesc {
             transmittance: default_transmittance(),
             equiangular: true,
             sampler: default_sampler(),
+            photons: None,
+            radius: None,
+            alpha: None,
         }
     }
 }

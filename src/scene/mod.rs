@@ -15,6 +15,7 @@ mod messages;
 mod overflow;
 mod overrides;
 mod shapes;
+mod sppm_keys;
 mod textures;
 mod validate;
 pub use overrides::Override;
@@ -389,10 +390,11 @@ pub fn build_frame(
         integrator: match integ.kind.as_str() {
             "path" => IntegratorKind::Path,
             "bdpt" => IntegratorKind::Bdpt,
+            "sppm" => IntegratorKind::Sppm,
             other => {
                 return Err(check.error(
                     "integrator.type",
-                    format!("unknown integrator `{other}`, expected path or bdpt"),
+                    format!("unknown integrator `{other}`, expected path, bdpt or sppm"),
                 ))
             }
         },
@@ -417,6 +419,7 @@ pub fn build_frame(
                 ))
             }
         },
+        sppm: sppm_keys::build(integ, &check)?,
         sampler: match integ.sampler.as_str() {
             "sobol" => SamplerKind::Sobol,
             "independent" => SamplerKind::Independent,

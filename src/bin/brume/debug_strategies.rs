@@ -58,9 +58,9 @@ pub fn check_args(args: &RenderArgs, dir: &Path) -> Result<()> {
 pub fn check_scene(scene: &Scene) -> Result<()> {
     match scene.settings.integrator {
         IntegratorKind::Bdpt => Ok(()),
-        IntegratorKind::Path => Err(argument(
+        IntegratorKind::Path | IntegratorKind::Sppm => Err(argument(
             FLAG,
-            "needs [integrator] type = \"bdpt\" in the scene (the path tracer has no strategies to split)",
+            "needs [integrator] type = \"bdpt\" in the scene (path and sppm have no strategies to split)",
         )),
     }
 }

@@ -685,7 +685,7 @@ fn debug_pixel(scene: &brume::integrator::Scene, (x, y): (u32, u32)) -> Result<i
         // A bidirectional pixel also gathers other pixels' light-tracing splats: its samples are not its value.
         return Err(argument(
             "--debug-pixel",
-            "replays the path tracer's samples only; this scene's [integrator] type is \"bdpt\"",
+            "replays the path tracer's samples only; this scene's [integrator] type is not \"path\"",
         ));
     }
     let spp = scene.settings.spp;

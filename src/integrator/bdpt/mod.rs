@@ -49,6 +49,23 @@ use media::Surrogate;
 use vertex::{Kind, Vertex};
 use weights::Context;
 
+pub(crate) use vertex::{Kind as VertexKind, Vertex as SubpathVertex};
+
+/// Traces one light subpath from a light picked by power at `time`, with
+/// the walk bidirectional sampling uses (the path tracer's tracking,
+/// adjoint BSDF sampling, roulette), into `path` (`path[0]` on the light):
+/// the photons of photon mapping.
+pub(crate) fn trace_light_subpath(
+    scene: &Scene,
+    sphere: &SceneSphere,
+    time: f32,
+    sampler: &mut crate::sampling::Sampler,
+    path: &mut Vec<Vertex>,
+) {
+    let sur = Surrogate::new(scene, time);
+    subpath::light_subpath(scene, &sur, sphere, time, sampler, path);
+}
+
 /// Per-thread storage of the subpaths, reused from sample to sample (no allocation per path).
 #[derive(Debug, Default)]
 pub struct BdptArena {
@@ -125,7 +142,7 @@ enum Event {
 
 /// The sphere lights at infinity start their rays around: the one the light
 /// pick weighs them over (shapes, the camera, point and spot lights).
-fn scene_sphere(scene: &Scene) -> SceneSphere {
+pub(crate) fn scene_sphere(scene: &Scene) -> SceneSphere {
     let mut bounds = scene
         .geometry
         .bounds()

@@ -14,7 +14,7 @@ use crate::medium::PhaseFunction;
 
 /// What a subpath vertex is.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Kind {
+pub(crate) enum Kind {
     /// The lens point a camera subpath starts from.
     Camera,
     /// A point on light `light` (area, point or spot): a light subpath's
@@ -57,7 +57,7 @@ pub(super) enum Kind {
 
 /// One vertex of a camera or light subpath.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Vertex {
+pub(crate) struct Vertex {
     /// What the vertex is.
     pub kind: Kind,
     /// Position (unused at infinity).
@@ -108,13 +108,13 @@ impl Vertex {
 
     /// True when a connection may end here: not behind a Dirac BSDF.
     #[inline]
-    pub(super) fn connectable(&self) -> bool {
+    pub(crate) fn connectable(&self) -> bool {
         !self.delta
     }
 
     /// True for a surface or medium vertex (one that scatters light).
     #[inline]
-    pub(super) fn scatters(&self) -> bool {
+    pub(crate) fn scatters(&self) -> bool {
         matches!(self.kind, Kind::Surface { .. } | Kind::Medium { .. })
     }
 
