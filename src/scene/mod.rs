@@ -2,6 +2,7 @@
 //! that name the file and field, and building the runtime `Scene`.
 
 pub mod animation;
+mod coefficients;
 pub mod description;
 mod envmap;
 mod files;
@@ -20,6 +21,7 @@ mod validate;
 pub use overrides::Override;
 pub mod vdb;
 mod vdb_emission;
+mod vdb_grids;
 
 use crate::camera::{Camera, FovAxis};
 use crate::error::{Error, Result};
