@@ -21,6 +21,45 @@ pub(crate) fn debug_pixel(scene: &brume::integrator::Scene, (x, y): (u32, u32)) 
         ));
     }
     let spp = scene.settings.spp;
+    let Stats {
+        finite,
+        nonfinite,
+        mean,
+        std_error,
+        brightest,
+    } = replay(scene, (x, y), spp);
+    println!(
+        "pixel {x},{y}: {spp} samples ({nonfinite} non-finite), seed {}",
+        scene.settings.seed
+    );
+    println!(
+        "mean radiance  {:.6} {:.6} {:.6}",
+        mean[0], mean[1], mean[2]
+    );
+    println!(
+        "standard error {:.6} {:.6} {:.6}",
+        std_error[0], std_error[1], std_error[2]
+    );
+    if finite > 0 {
+        println!(
+            "brightest sample {} (luminance {:.6})",
+            brightest.0, brightest.1
+        );
+    }
+    Ok(0)
+}
+
+/// What the replayed samples of one pixel add up to.
+struct Stats {
+    finite: u32,
+    nonfinite: u32,
+    mean: [f64; 3],
+    std_error: [f64; 3],
+    brightest: (u32, f32),
+}
+
+/// Takes the `spp` samples of pixel (x, y), printing each non-finite one.
+fn replay(scene: &brume::integrator::Scene, (x, y): (u32, u32), spp: u32) -> Stats {
     let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
     let (mut finite, mut nonfinite) = (0u32, 0u32);
     let mut brightest = (0u32, f32::NEG_INFINITY);
@@ -46,23 +85,11 @@ pub(crate) fn debug_pixel(scene: &brume::integrator::Scene, (x, y): (u32, u32)) 
     for c in 0..3 {
         std_error[c] = ((sum2[c] / n - mean[c] * mean[c]).max(0.0) / n).sqrt();
     }
-    println!(
-        "pixel {x},{y}: {spp} samples ({nonfinite} non-finite), seed {}",
-        scene.settings.seed
-    );
-    println!(
-        "mean radiance  {:.6} {:.6} {:.6}",
-        mean[0], mean[1], mean[2]
-    );
-    println!(
-        "standard error {:.6} {:.6} {:.6}",
-        std_error[0], std_error[1], std_error[2]
-    );
-    if finite > 0 {
-        println!(
-            "brightest sample {} (luminance {:.6})",
-            brightest.0, brightest.1
-        );
+    Stats {
+        finite,
+        nonfinite,
+        mean,
+        std_error,
+        brightest,
     }
-    Ok(0)
 }

@@ -48,26 +48,8 @@ pub(crate) fn render_and_write(
         threads: args.threads,
         progress: job.show,
     };
-    let mut checkpoint = args.checkpoint.map(|every| {
-        brume::render::checkpoint::Checkpoint::new(
-            every,
-            exr_path.to_path_buf(),
-            png_path.to_path_buf(),
-            args.exposure,
-            args.tonemap,
-        )
-    });
-    let mut display = match &args.display {
-        Some(address) => {
-            let name = args
-                .scene
-                .file_stem()
-                .map(|s| s.to_string_lossy().to_string())
-                .unwrap_or_else(|| "render".into());
-            Some(brume::render::display::Display::connect(address, &name)?)
-        }
-        None => None,
-    };
+    let mut checkpoint = checkpoint(args, exr_path, png_path);
+    let mut display = connect_display(args)?;
     // From here a stop request saves the finished passes instead of exiting at once.
     interrupt::saving(true);
     let mut out = render_live(
@@ -94,6 +76,36 @@ pub(crate) fn render_and_write(
         eprintln!("warning: --display: {warning}");
     }
     Ok(code)
+}
+
+/// The checkpoint writer of `--checkpoint SECONDS`, over the render's own outputs.
+fn checkpoint(
+    args: &RenderArgs,
+    exr_path: &Path,
+    png_path: &Path,
+) -> Option<brume::render::checkpoint::Checkpoint> {
+    args.checkpoint.map(|every| {
+        brume::render::checkpoint::Checkpoint::new(
+            every,
+            exr_path.to_path_buf(),
+            png_path.to_path_buf(),
+            args.exposure,
+            args.tonemap,
+        )
+    })
+}
+
+/// The tev connection of `--display`, named after the scene file.
+fn connect_display(args: &RenderArgs) -> Result<Option<brume::render::display::Display>> {
+    let Some(address) = &args.display else {
+        return Ok(None);
+    };
+    let name = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or_else(|| "render".into());
+    brume::render::display::Display::connect(address, &name).map(Some)
 }
 
 /// Writes a finished or stopped render: a stopped one as a partial image,
