@@ -12,7 +12,7 @@ FN = re.compile(r'^\s*(pub(\([^)]*\))?\s+)?(const\s+)?(async\s+)?(unsafe\s+)?(ex
 
 
 def strip(line, state):
-    """Removes comments, strings and char literals; `state` carries block comments across lines."""
+    """Removes comments, strings and char literals; `state` carries block comments and strings across lines."""
     out, i, n = [], 0, len(line)
     while i < n:
         if state['block']:
@@ -26,10 +26,12 @@ def strip(line, state):
         elif line.startswith('/*', i):
             state['block'] = True
             i += 2
-        elif line[i] == '"':
-            j = i + 1
+        elif state['string'] or line[i] == '"':
+            # a string may run over several lines (`\` continuations, literal newlines)
+            j = i if state['string'] else i + 1
             while j < n and line[j] != '"':
                 j += 2 if line[j] == '\\' else 1
+            state['string'] = j >= n
             i = j + 1
         elif line[i] == "'" and re.match(r"'(\\.|[^\\'])'", line[i:i + 4]):
             i += len(re.match(r"'(\\.|[^\\'])'", line[i:i + 4]).group(0))
@@ -41,7 +43,7 @@ def strip(line, state):
 
 def functions(path):
     lines = path.read_text(errors='replace').splitlines()
-    state = {'block': False}
+    state = {'block': False, 'string': False}
     code = [strip(l, state) for l in lines]
     test_depth = None
     depth = 0

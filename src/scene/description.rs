@@ -698,7 +698,7 @@ pub enum MediumDesc {
         up: [f32; 3],
     },
     /// Density from an OpenVDB grid (see `scene::vdb`).
-    Vdb(super::vdb::VdbDesc),
+    Vdb(VdbDesc),
 }
 
 /// `phase = { ... }` of a medium.
@@ -744,4 +744,61 @@ pub enum BoundsDesc {
         /// Radius.
         radius: f32,
     },
+}
+
+/// The fields of a `type = "vdb"` medium.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VdbDesc {
+    /// OpenVDB file, relative to the scene file.
+    pub file: PathBuf,
+    /// Name of the density grid.
+    #[serde(default = "default_grid")]
+    pub grid: String,
+    /// Extinction per unit density (1/m).
+    #[serde(default = "default_density_scale")]
+    pub density_scale: f32,
+    /// Per-channel factor on `density_scale` (chromatic extinction).
+    #[serde(default)]
+    pub sigma_t_scale: Option<Color>,
+    /// Single-scattering albedo σs/σt (default 1).
+    #[serde(default)]
+    pub albedo: Option<Color>,
+    /// Phase function (default isotropic).
+    #[serde(default)]
+    pub phase: Option<PhaseDesc>,
+    /// Placement after the file's own index → world map.
+    #[serde(default)]
+    pub transform: Option<TransformDesc>,
+    /// Constant emitted radiance Le.
+    #[serde(default)]
+    pub emission: Option<Color>,
+    /// Temperature grid for blackbody emission.
+    #[serde(default)]
+    pub temperature_grid: Option<String>,
+    /// Kelvin per unit of temperature-grid value.
+    #[serde(default)]
+    pub temperature_scale: Option<f32>,
+    /// Grid whose value times `emission_scale` is Le.
+    #[serde(default)]
+    pub emission_grid: Option<String>,
+    /// Factor on grid-driven emission (default 1).
+    #[serde(default)]
+    pub emission_scale: Option<Color>,
+    /// `"grid"` (default) or `"global"`.
+    #[serde(default)]
+    pub majorant: Option<String>,
+    /// Name of a vec3s velocity grid (file world units per second) for motion blur.
+    #[serde(default)]
+    pub velocity_grid: Option<String>,
+    /// Factor on the velocities (default 1).
+    #[serde(default)]
+    pub velocity_scale: Option<f32>,
+}
+
+fn default_grid() -> String {
+    "density".into()
+}
+fn default_density_scale() -> f32 {
+    1.0
 }

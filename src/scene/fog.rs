@@ -1,7 +1,7 @@
 //! Turning `[[medium]] type = "height_fog"` entries into height fog.
 
+use super::coefficients::{build_phase, check_emission, coefficients};
 use super::description::{Color, MediumDesc};
-use super::media::{build_phase, coefficients};
 use super::validate::Check;
 use crate::error::Result;
 use crate::math::color::Rgb;
@@ -61,7 +61,7 @@ pub(crate) fn build_height_fog(desc: &MediumDesc, field: &str, check: &Check) ->
         None => Rgb::BLACK,
     };
     if !emission.is_black() {
-        super::media::check_emission(field, sigma_a, emission, check)?;
+        check_emission(field, sigma_a, emission, check)?;
     }
     Ok(Medium::HeightFog(HeightFog {
         sigma_a,

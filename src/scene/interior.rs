@@ -11,8 +11,8 @@
 //! surface at all, only the bounds of its medium. With a dielectric
 //! `material` it is also a glass surface. See `medium::interior`.
 
+use super::coefficients::{build_phase, coefficients, warn_inert_emission};
 use super::description::{MediumDesc, ShapeDesc, ShapeType};
-use super::media::{build_phase, coefficients, warn_inert_emission};
 use super::shapes::build_transform;
 use super::validate::Check;
 use crate::error::Result;

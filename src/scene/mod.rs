@@ -2,6 +2,8 @@
 //! that name the file and field, and building the runtime `Scene`.
 
 pub mod animation;
+mod build_shapes;
+mod coefficients;
 pub mod description;
 mod envmap;
 mod files;
@@ -21,6 +23,7 @@ mod validate;
 pub use overrides::Override;
 pub mod vdb;
 mod vdb_emission;
+mod vdb_grids;
 
 use crate::camera::{Camera, FovAxis};
 use crate::error::{Error, Result};
@@ -29,10 +32,8 @@ use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light, LightPick};
 use crate::material::texture::Texture;
-use crate::material::Material;
-use crate::math::color::Rgb;
 use crate::sampling::SamplerKind;
-use description::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
+use description::{LightDesc, SceneDesc};
 use std::path::{Path, PathBuf};
 use validate::Check;
 
@@ -372,21 +373,51 @@ pub fn build_frame(
 ) -> Result<(Scene, Vec<String>)> {
     let check = Check::new(file);
     let camera = build_camera(desc, &check)?;
-    let integ = &desc.integrator;
-    check.positive_int("integrator.spp", integ.spp)?;
+    check.positive_int("integrator.spp", desc.integrator.spp)?;
     if desc.shapes.is_empty() && desc.lights.is_empty() && desc.media.is_empty() {
         return Err(check.error("scene", "the scene is empty: no shape, light or medium"));
     }
+    let timing = build_timing(desc, &check, frame)?;
+    let mut settings = build_settings(desc, &check, timing.shutter)?;
+    let shapes = build_shapes::build_shapes(desc, &check, base, &timing)?;
+    let (lights, shape_lights) =
+        build_lights(desc, &check, base, &shapes.geometry, shapes.emissions)?;
+    let media = build_media(desc, &check, base, &timing, shapes.interiors)?;
+    let light_pick = light_pick(&lights, &shapes.geometry, &camera);
+    // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
+    settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
+    let scene = Scene {
+        camera,
+        geometry: shapes.geometry,
+        shape_materials: shapes.materials,
+        shape_textures: shapes.textures,
+        shape_lights,
+        lights,
+        light_pick,
+        media,
+        settings,
+        aovs: build_aovs(&desc.film.aovs, &check)?,
+    };
+    Ok((scene, check.take_warnings()))
+}
+
+/// The frame, shutter and frame rate that resolve frame patterns and motion.
+fn build_timing(desc: &SceneDesc, check: &Check, frame: Option<i64>) -> Result<animation::Timing> {
     let fps = check.range("animation.fps", desc.animation.fps, 0.0, 1e6, false)?;
-    let shutter = build_shutter(desc, &check)?;
-    let timing = animation::Timing {
+    let shutter = build_shutter(desc, check)?;
+    Ok(animation::Timing {
         frame,
         shutter,
         fps,
         frame_offset: desc.animation.frame_offset,
         missing: desc.animation.missing_frames,
-    };
-    let settings = Settings {
+    })
+}
+
+/// `[integrator]`: the estimator, its sampler and its limits.
+fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) -> Result<Settings> {
+    let integ = &desc.integrator;
+    Ok(Settings {
         integrator: match integ.kind.as_str() {
             "path" => IntegratorKind::Path,
             "bdpt" => IntegratorKind::Bdpt,
@@ -430,77 +461,18 @@ pub fn build_frame(
                 ))
             }
         },
-    };
+    })
+}
 
-    let mut items = Vec::new();
-    let mut texcoords = Vec::new();
-    let mut any_vt = false;
-    let mut moving = Vec::new();
-    let mut shape_materials = Vec::with_capacity(desc.shapes.len());
-    let mut shape_textures = Vec::with_capacity(desc.shapes.len());
-    let mut emissions = Vec::with_capacity(desc.shapes.len());
-    let mut images = textures::ImageCache::default();
-    let mut interiors = Vec::new();
-    for (i, shape) in desc.shapes.iter().enumerate() {
-        let field = format!("shape[{i}]");
-        let mut built = shapes::build_shape(shape, &field, &check, base)?;
-        require_uv(shape, &field, built.texcoords.is_some(), &check, base)?;
-        let keys = check_moving_shape(shape, built.keys.take(), &field, &check)?;
-        let mut surface = true;
-        if shape.interior.is_some() {
-            surface = interior::boundary(shape, &field, &check)? == interior::Boundary::Dielectric;
-            interiors.extend(interior::build_interior(
-                shape,
-                &built.primitives,
-                &field,
-                &check,
-                base,
-                &timing,
-            )?);
-        }
-        match keys {
-            Some(keys) => moving.push(crate::geometry::MovingShape::new(
-                i as u32,
-                built.primitives,
-                keys,
-            )),
-            None if surface => {
-                // Texture coordinates are indexed like the primitives: only surfaces get both.
-                let n = built.primitives.len();
-                items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
-                any_vt |= built.texcoords.is_some();
-                match built.texcoords {
-                    Some(t) => texcoords.extend(t),
-                    None => {
-                        texcoords.extend(std::iter::repeat_n(crate::geometry::BARYCENTRIC_UV, n))
-                    }
-                }
-            }
-            None => {}
-        }
-        let (material, texture) =
-            build_material(shape.material.as_ref(), &field, &check, base, &mut images)?;
-        shape_materials.push(material);
-        shape_textures.push(texture);
-        let emission = match &shape.emission {
-            Some(e) => Some(textures::build(
-                &check,
-                &format!("{field}.emission"),
-                e,
-                textures::Range::Radiance,
-                base,
-                &mut images,
-            )?),
-            None => None,
-        };
-        emissions.push(emission);
-    }
-    if !any_vt {
-        // Only OBJ corners carry coordinates of their own: keep no table without them.
-        texcoords = Vec::new();
-    }
-    let geometry = Geometry::with_texcoords(items, texcoords).with_moving(moving);
-
+/// The area lights of emissive shapes (indexed by shape) followed by the
+/// `[[light]]` entries; at most one environment.
+fn build_lights(
+    desc: &SceneDesc,
+    check: &Check,
+    base: &Path,
+    geometry: &Geometry,
+    emissions: Vec<Option<Texture>>,
+) -> Result<(Vec<Light>, Vec<Option<u32>>)> {
     let mut lights = Vec::new();
     let mut shape_lights = vec![None; desc.shapes.len()];
     for (i, (shape, emission)) in desc.shapes.iter().zip(emissions).enumerate() {
@@ -508,13 +480,13 @@ pub fn build_frame(
             shape_lights[i] = Some(lights.len() as u32);
             lights.push(match geometry.moving_shape(i as u32) {
                 Some(m) => Light::moving_area(i as u32, radiance, shape.two_sided, m.local()),
-                None => Light::area(i as u32, radiance, shape.two_sided, &geometry),
+                None => Light::area(i as u32, radiance, shape.two_sided, geometry),
             });
         }
     }
     let mut environments = 0;
     for (i, light) in desc.lights.iter().enumerate() {
-        let built = build_light(light, &format!("light[{i}]"), &check, base)?;
+        let built = build_light(light, &format!("light[{i}]"), check, base)?;
         if matches!(built, Light::Environment(_)) {
             environments += 1;
             if environments > 1 {
@@ -526,7 +498,18 @@ pub fn build_frame(
         }
         lights.push(built);
     }
+    Ok((lights, shape_lights))
+}
 
+/// The `[[medium]]` entries, then the shapes' interiors (at most
+/// `MAX_OVERLAPPING_MEDIA` in all).
+fn build_media(
+    desc: &SceneDesc,
+    check: &Check,
+    base: &Path,
+    timing: &animation::Timing,
+    interiors: Vec<crate::medium::Medium>,
+) -> Result<Vec<crate::medium::Medium>> {
     if desc.media.len() + interiors.len() > MAX_OVERLAPPING_MEDIA {
         return Err(check.error(
             "medium",
@@ -542,31 +525,14 @@ pub fn build_frame(
         .enumerate()
         .map(|(i, m)| {
             let field = format!("{}[{i}]", desc.media_key);
-            let medium = media::build_medium(m, &field, &check, base, &timing)?;
+            let medium = media::build_medium(m, &field, check, base, timing)?;
             let eye = crate::math::Vec3::from_array(desc.camera.position);
-            fog::check_at_camera(&medium, &field, eye, &check)?;
+            fog::check_at_camera(&medium, &field, eye, check)?;
             Ok(medium)
         })
         .collect::<Result<Vec<_>>>()?;
     media.extend(interiors);
-
-    let light_pick = light_pick(&lights, &geometry, &camera);
-    // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
-    let mut settings = settings;
-    settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
-    let scene = Scene {
-        camera,
-        geometry,
-        shape_materials,
-        shape_textures,
-        shape_lights,
-        lights,
-        light_pick,
-        media,
-        settings,
-        aovs: build_aovs(&desc.film.aovs, &check)?,
-    };
-    Ok((scene, check.take_warnings()))
+    Ok(media)
 }
 
 /// The light pick by power, lights at infinity weighed over the scene's
@@ -586,46 +552,6 @@ fn light_pick(lights: &[Light], geometry: &Geometry, camera: &Camera) -> LightPi
     };
     let power: Vec<f32> = lights.iter().map(|l| l.power(radius)).collect();
     LightPick::new(&power)
-}
-
-/// The keyframes `keys` of a shape, refused where the shape cannot move:
-/// with an interior or a texture, or emissive and not scaled uniformly (`light::moving`).
-fn check_moving_shape(
-    shape: &description::ShapeDesc,
-    keys: Option<crate::math::keyframes::Keyframes>,
-    field: &str,
-    check: &Check,
-) -> Result<Option<crate::math::keyframes::Keyframes>> {
-    let Some(keys) = keys else {
-        return Ok(None);
-    };
-    if shape.interior.is_some() {
-        return Err(check.error(
-            &format!("{field}.transform.keyframes"),
-            "a shape with an `interior` cannot move yet: keyframe the medium instead, or leave the shape still",
-        ));
-    }
-    if let Some((key, _)) = shape
-        .colors()
-        .into_iter()
-        .find(|(_, c)| matches!(c, description::ColorOrTexture::Texture(_)))
-    {
-        return Err(check.error(
-            &format!("{field}.{key}"),
-            "a textured shape cannot move yet (keyframed shapes take constant colours)",
-        ));
-    }
-    let emits = shape
-        .emission
-        .as_ref()
-        .is_some_and(|e| !matches!(e, description::ColorOrTexture::Color(c) if c.0 == [0.0; 3]));
-    if emits && !keys.is_uniform_scale() {
-        return Err(check.error(
-            &format!("{field}.transform.keyframes"),
-            "an emissive shape that moves must scale alike on all three axes in every key",
-        ));
-    }
-    Ok(Some(keys))
 }
 
 /// `[film] aovs`: known names, each once.
@@ -776,86 +702,6 @@ fn camera_placement(
             keyframes::Placed::Moving(keys) => (position, look_at, up, Some(keys)),
         },
     )
-}
-
-/// Refuses a texture that needs texture coordinates on a mesh whose OBJ file has none.
-fn require_uv(
-    shape: &ShapeDesc,
-    field: &str,
-    has_vt: bool,
-    check: &Check,
-    base: &Path,
-) -> Result<()> {
-    let (Some(file), false) = (&shape.file, has_vt) else {
-        return Ok(());
-    };
-    let textured = shape
-        .colors()
-        .into_iter()
-        .find(|(_, c)| matches!(c, description::ColorOrTexture::Texture(_)));
-    match textured {
-        Some((key, _)) => Err(check.error(
-            &format!("{field}.{key}"),
-            format!(
-                "a texture needs texture coordinates, but OBJ file {} has no `vt` lines (in every model)",
-                resolve(base, file).display()
-            ),
-        )),
-        None => Ok(()),
-    }
-}
-
-/// The material of a shape and the texture of its colour parameter, if it has one.
-fn build_material(
-    desc: Option<&MaterialDesc>,
-    field: &str,
-    check: &Check,
-    base: &Path,
-    images: &mut textures::ImageCache,
-) -> Result<(Material, Option<Texture>)> {
-    let field = format!("{field}.material");
-    // A constant stays in the material; a texture replaces it at every hit.
-    let mut texture = None;
-    let mut color = |key: &str, value: &description::ColorOrTexture| -> Result<Rgb> {
-        let t = textures::build(
-            check,
-            &format!("{field}.{key}"),
-            value,
-            textures::Range::Albedo,
-            base,
-            images,
-        )?;
-        Ok(match t.constant() {
-            Some(c) => c,
-            None => {
-                texture = Some(t);
-                Rgb::WHITE
-            }
-        })
-    };
-    let material = match desc {
-        None => Material::Diffuse {
-            albedo: Rgb::splat(0.5),
-        },
-        Some(MaterialDesc::Diffuse { albedo }) => Material::Diffuse {
-            albedo: color("albedo", albedo)?,
-        },
-        Some(MaterialDesc::Phong { albedo, exponent }) => Material::Phong {
-            albedo: color("albedo", albedo)?,
-            exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
-        },
-        Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
-            reflectance: color("reflectance", reflectance)?,
-        },
-        Some(MaterialDesc::Dielectric { ior, alpha }) => {
-            materials::dielectric(check, &field, *ior, *alpha)?
-        }
-        Some(MaterialDesc::Conductor { alpha, eta, k, f0 }) => {
-            let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
-            materials::conductor(check, &field, *alpha, *eta, *k, f0)?
-        }
-    };
-    Ok((material, texture))
 }
 
 fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {

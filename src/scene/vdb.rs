@@ -22,172 +22,23 @@
 //! resolved for the frame being rendered. The velocity grid only matters
 //! with a camera shutter; see `medium::motion`.
 
-use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::animation::{self, Timing};
-use super::description::{Color, PhaseDesc, TransformDesc};
+use super::coefficients::build_phase;
+use super::description::VdbDesc;
 use super::files::{check_input, Format};
-use super::media::build_phase;
 use super::overflow;
 use super::validate::Check;
 use super::vdb_emission::build_emission;
+use super::vdb_grids::{check_finite, check_values, load};
 use crate::error::Result;
 use crate::math::color::Rgb;
 use crate::medium::{
     GridMedium, GridMediumParams, GridMotion, MajorantMode, MajorantTooLarge, Medium,
 };
-use crate::volume::{load_float_grid, load_vec3_grid, FloatGrid, VolumeError, MAX_VDB_BYTES};
-
-/// The fields of a `type = "vdb"` medium.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct VdbDesc {
-    /// OpenVDB file, relative to the scene file.
-    pub file: PathBuf,
-    /// Name of the density grid.
-    #[serde(default = "default_grid")]
-    pub grid: String,
-    /// Extinction per unit density (1/m).
-    #[serde(default = "default_density_scale")]
-    pub density_scale: f32,
-    /// Per-channel factor on `density_scale` (chromatic extinction).
-    #[serde(default)]
-    pub sigma_t_scale: Option<Color>,
-    /// Single-scattering albedo σs/σt (default 1).
-    #[serde(default)]
-    pub albedo: Option<Color>,
-    /// Phase function (default isotropic).
-    #[serde(default)]
-    pub phase: Option<PhaseDesc>,
-    /// Placement after the file's own index → world map.
-    #[serde(default)]
-    pub transform: Option<TransformDesc>,
-    /// Constant emitted radiance Le.
-    #[serde(default)]
-    pub emission: Option<Color>,
-    /// Temperature grid for blackbody emission.
-    #[serde(default)]
-    pub temperature_grid: Option<String>,
-    /// Kelvin per unit of temperature-grid value.
-    #[serde(default)]
-    pub temperature_scale: Option<f32>,
-    /// Grid whose value times `emission_scale` is Le.
-    #[serde(default)]
-    pub emission_grid: Option<String>,
-    /// Factor on grid-driven emission (default 1).
-    #[serde(default)]
-    pub emission_scale: Option<Color>,
-    /// `"grid"` (default) or `"global"`.
-    #[serde(default)]
-    pub majorant: Option<String>,
-    /// Name of a vec3s velocity grid (file world units per second) for motion blur.
-    #[serde(default)]
-    pub velocity_grid: Option<String>,
-    /// Factor on the velocities (default 1).
-    #[serde(default)]
-    pub velocity_scale: Option<f32>,
-}
-
-fn default_grid() -> String {
-    "density".into()
-}
-fn default_density_scale() -> f32 {
-    1.0
-}
-
-/// Loads grid `name` of `path`, turning a volume error into one that names the
-/// field: the grid's field for a grid problem, `file_field` when the file
-/// itself cannot be read (not a VDB, damaged header).
-pub(super) fn load(
-    path: &Path,
-    name: &str,
-    (file_field, field): (&str, &str),
-    check: &Check,
-) -> Result<FloatGrid> {
-    load_float_grid(path, name).map_err(|e| {
-        let culprit = match e {
-            VolumeError::Io { .. } | VolumeError::BadFile { .. } => file_field,
-            _ => field,
-        };
-        check.error(culprit, e.to_string())
-    })
-}
-
-/// Refuses a grid brume cannot render: NaN or infinite values (tracking
-/// against an infinite majorant never ends), values whose product with
-/// `scale` overflows f32, or no positive value at all (a level set given as
-/// a density renders as nothing); warns when some values are negative (they
-/// count as 0). `fields` are (the grid's field, the scale's field).
-pub(super) fn check_values(
-    grid: &FloatGrid,
-    fields: (&str, &str),
-    scale: f32,
-    density: bool,
-    check: &Check,
-) -> Result<crate::volume::ValueCensus> {
-    let c = check_finite(grid, fields, scale, check)?;
-    let name = grid.name();
-    if density && c.max_finite <= 0.0 && scale > 0.0 {
-        return Err(check.error(
-            fields.0,
-            format!(
-                "grid '{name}' has no positive value (values from {} to {}), so it renders as empty space; \
-                 a level set (signed distance) is not a density",
-                c.min_finite, c.max_finite
-            ),
-        ));
-    }
-    if c.negative > 0 {
-        check.warn(
-            fields.0,
-            format!(
-                "{} of the {} stored values of grid '{name}' are negative (down to {}); they count as 0",
-                c.negative, c.stored, c.min_finite
-            ),
-        );
-    }
-    Ok(c)
-}
-
-/// Refuses NaN or infinite values and values whose product with `scale`
-/// overflows f32; returns the grid's value census.
-fn check_finite(
-    grid: &FloatGrid,
-    fields: (&str, &str),
-    scale: f32,
-    check: &Check,
-) -> Result<crate::volume::ValueCensus> {
-    let c = grid.value_census();
-    let name = grid.name();
-    if c.nonfinite() > 0 {
-        return Err(check.error(
-            fields.0,
-            format!(
-                "grid '{name}' holds {} non-finite values ({} NaN, {} +inf, {} -inf) among its {} stored values; \
-                 brume needs finite values (`brume info` counts them)",
-                c.nonfinite(),
-                c.nan,
-                c.pos_inf,
-                c.neg_inf,
-                c.stored
-            ),
-        ));
-    }
-    let largest = c.max_finite.abs().max(c.min_finite.abs());
-    if !(largest * scale).is_finite() {
-        return Err(check.error(
-            fields.1,
-            format!(
-                "{} times the largest value {} of grid '{name}' overflows single precision (above 3.4e38)",
-                super::overflow::num(scale),
-                super::overflow::num(largest)
-            ),
-        ));
-    }
-    Ok(c)
-}
+use crate::volume::{load_vec3_grid, MAX_VDB_BYTES};
 
 /// The grid medium of one `type = "vdb"` entry.
 pub(crate) fn build_vdb_medium(
@@ -255,7 +106,11 @@ pub(crate) fn build_vdb_medium(
             (sigma_a, "the densest voxel's sigma_a"),
             (le, "the brightest emission"),
         )?;
-        super::media::warn_inert_emission(field, (Rgb::WHITE - albedo) * sigma_t_scale, check);
+        super::coefficients::warn_inert_emission(
+            field,
+            (Rgb::WHITE - albedo) * sigma_t_scale,
+            check,
+        );
     }
     // Moving: the grid is built in the file's frame, placed per time.
     let (to_world, keys) =

@@ -2,9 +2,10 @@
 //! emission from `temperature_grid`, or `emission_grid` values, each refused
 //! when its brightest radiance overflows single precision.
 
+use super::description::VdbDesc;
 use super::overflow;
 use super::validate::Check;
-use super::vdb::{check_values, load, VdbDesc};
+use super::vdb_grids::{check_values, load};
 use crate::error::Result;
 use crate::math::color::Rgb;
 use crate::medium::blackbody::blackbody_emission;

@@ -13,7 +13,7 @@ use brume::integrator::bdpt::strategies::render_strategies;
 use brume::integrator::{IntegratorKind, Scene};
 use brume::render::output_safety::Plan;
 
-use super::{argument, RenderArgs};
+use super::render_args::{argument, RenderArgs};
 
 const FLAG: &str = "--debug-strategies";
 

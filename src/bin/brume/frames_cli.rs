@@ -14,10 +14,10 @@ use brume::film::image_io;
 use brume::scene::animation::{has_pattern, substitute};
 
 use super::interrupt::{self, EXIT_INTERRUPTED};
-use super::{
-    apply_overrides, argument, check_render_args, render_and_write, warn_extensions, Job,
-    RenderArgs,
+use super::render_args::{
+    apply_overrides, argument, check_render_args, warn_extensions, RenderArgs,
 };
+use super::render_job::{render_and_write, Job};
 
 /// The EXR and PNG patterns: the user's, or NAME.####.exr / NAME.####.png.
 fn output_patterns(args: &RenderArgs, frames: usize) -> Result<(PathBuf, PathBuf)> {

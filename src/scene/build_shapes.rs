@@ -1,0 +1,242 @@
+//! The `[[shape]]` entries built into the scene's geometry, with each
+//! shape's material, texture, emission and interior medium.
+
+use super::animation::Timing;
+use super::description::{self, MaterialDesc, SceneDesc, ShapeDesc};
+use super::validate::Check;
+use super::{interior, materials, resolve, shapes, textures};
+use crate::error::Result;
+use crate::geometry::{Geometry, MovingShape, BARYCENTRIC_UV};
+use crate::material::texture::Texture;
+use crate::material::Material;
+use crate::math::color::Rgb;
+use crate::medium::Medium;
+use std::path::Path;
+
+/// The shapes of a scene, built: geometry and what each shape carries.
+pub(super) struct Shapes {
+    /// All primitives (surfaces and moving shapes) with their texture coordinates.
+    pub geometry: Geometry,
+    /// The material of each shape.
+    pub materials: Vec<Material>,
+    /// The texture of each shape's material.
+    pub textures: Vec<Option<Texture>>,
+    /// The emitted radiance of each shape, if it glows.
+    pub emissions: Vec<Option<Texture>>,
+    /// The media inside closed shapes.
+    pub interiors: Vec<Medium>,
+}
+
+/// Builds every `[[shape]]`: primitives, materials, emissions, interiors.
+pub(super) fn build_shapes(
+    desc: &SceneDesc,
+    check: &Check,
+    base: &Path,
+    timing: &Timing,
+) -> Result<Shapes> {
+    let mut items = Vec::new();
+    let mut texcoords = Vec::new();
+    let mut any_vt = false;
+    let mut moving = Vec::new();
+    let mut shape_materials = Vec::with_capacity(desc.shapes.len());
+    let mut shape_textures = Vec::with_capacity(desc.shapes.len());
+    let mut emissions = Vec::with_capacity(desc.shapes.len());
+    let mut images = textures::ImageCache::default();
+    let mut interiors = Vec::new();
+    for (i, shape) in desc.shapes.iter().enumerate() {
+        let field = format!("shape[{i}]");
+        let mut built = shapes::build_shape(shape, &field, check, base)?;
+        require_uv(shape, &field, built.texcoords.is_some(), check, base)?;
+        let keys = check_moving_shape(shape, built.keys.take(), &field, check)?;
+        let surface = add_interior(shape, &built, &field, (check, base, timing), &mut interiors)?;
+        match keys {
+            Some(keys) => moving.push(MovingShape::new(i as u32, built.primitives, keys)),
+            None if surface => {
+                // Texture coordinates are indexed like the primitives: only surfaces get both.
+                let n = built.primitives.len();
+                items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
+                any_vt |= built.texcoords.is_some();
+                match built.texcoords {
+                    Some(t) => texcoords.extend(t),
+                    None => texcoords.extend(std::iter::repeat_n(BARYCENTRIC_UV, n)),
+                }
+            }
+            None => {}
+        }
+        let (material, texture) =
+            build_material(shape.material.as_ref(), &field, check, base, &mut images)?;
+        shape_materials.push(material);
+        shape_textures.push(texture);
+        emissions.push(build_emission(shape, &field, check, base, &mut images)?);
+    }
+    if !any_vt {
+        // Only OBJ corners carry coordinates of their own: keep no table without them.
+        texcoords = Vec::new();
+    }
+    Ok(Shapes {
+        geometry: Geometry::with_texcoords(items, texcoords).with_moving(moving),
+        materials: shape_materials,
+        textures: shape_textures,
+        emissions,
+        interiors,
+    })
+}
+
+/// Builds the medium inside `shape`, if it has one; returns whether the shape
+/// is still a surface (a dielectric boundary) or only bounds its medium.
+fn add_interior(
+    shape: &ShapeDesc,
+    built: &shapes::BuiltShape,
+    field: &str,
+    (check, base, timing): (&Check, &Path, &Timing),
+    interiors: &mut Vec<Medium>,
+) -> Result<bool> {
+    if shape.interior.is_none() {
+        return Ok(true);
+    }
+    let surface = interior::boundary(shape, field, check)? == interior::Boundary::Dielectric;
+    interiors.extend(interior::build_interior(
+        shape,
+        &built.primitives,
+        field,
+        check,
+        base,
+        timing,
+    )?);
+    Ok(surface)
+}
+
+/// The emitted radiance of `shape`, a colour or a texture, if it glows.
+fn build_emission(
+    shape: &ShapeDesc,
+    field: &str,
+    check: &Check,
+    base: &Path,
+    images: &mut textures::ImageCache,
+) -> Result<Option<Texture>> {
+    let Some(e) = &shape.emission else {
+        return Ok(None);
+    };
+    let key = format!("{field}.emission");
+    textures::build(check, &key, e, textures::Range::Radiance, base, images).map(Some)
+}
+
+/// The keyframes `keys` of a shape, refused where the shape cannot move:
+/// with an interior or a texture, or emissive and not scaled uniformly (`light::moving`).
+fn check_moving_shape(
+    shape: &description::ShapeDesc,
+    keys: Option<crate::math::keyframes::Keyframes>,
+    field: &str,
+    check: &Check,
+) -> Result<Option<crate::math::keyframes::Keyframes>> {
+    let Some(keys) = keys else {
+        return Ok(None);
+    };
+    if shape.interior.is_some() {
+        return Err(check.error(
+            &format!("{field}.transform.keyframes"),
+            "a shape with an `interior` cannot move yet: keyframe the medium instead, or leave the shape still",
+        ));
+    }
+    if let Some((key, _)) = shape
+        .colors()
+        .into_iter()
+        .find(|(_, c)| matches!(c, description::ColorOrTexture::Texture(_)))
+    {
+        return Err(check.error(
+            &format!("{field}.{key}"),
+            "a textured shape cannot move yet (keyframed shapes take constant colours)",
+        ));
+    }
+    let emits = shape
+        .emission
+        .as_ref()
+        .is_some_and(|e| !matches!(e, description::ColorOrTexture::Color(c) if c.0 == [0.0; 3]));
+    if emits && !keys.is_uniform_scale() {
+        return Err(check.error(
+            &format!("{field}.transform.keyframes"),
+            "an emissive shape that moves must scale alike on all three axes in every key",
+        ));
+    }
+    Ok(Some(keys))
+}
+
+/// Refuses a texture that needs texture coordinates on a mesh whose OBJ file has none.
+fn require_uv(
+    shape: &ShapeDesc,
+    field: &str,
+    has_vt: bool,
+    check: &Check,
+    base: &Path,
+) -> Result<()> {
+    let (Some(file), false) = (&shape.file, has_vt) else {
+        return Ok(());
+    };
+    let textured = shape
+        .colors()
+        .into_iter()
+        .find(|(_, c)| matches!(c, description::ColorOrTexture::Texture(_)));
+    match textured {
+        Some((key, _)) => Err(check.error(
+            &format!("{field}.{key}"),
+            format!(
+                "a texture needs texture coordinates, but OBJ file {} has no `vt` lines (in every model)",
+                resolve(base, file).display()
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The material of a shape and the texture of its colour parameter, if it has one.
+fn build_material(
+    desc: Option<&MaterialDesc>,
+    field: &str,
+    check: &Check,
+    base: &Path,
+    images: &mut textures::ImageCache,
+) -> Result<(Material, Option<Texture>)> {
+    let field = format!("{field}.material");
+    // A constant stays in the material; a texture replaces it at every hit.
+    let mut texture = None;
+    let mut color = |key: &str, value: &description::ColorOrTexture| -> Result<Rgb> {
+        let t = textures::build(
+            check,
+            &format!("{field}.{key}"),
+            value,
+            textures::Range::Albedo,
+            base,
+            images,
+        )?;
+        Ok(match t.constant() {
+            Some(c) => c,
+            None => {
+                texture = Some(t);
+                Rgb::WHITE
+            }
+        })
+    };
+    let material = match desc {
+        None => Material::Diffuse {
+            albedo: Rgb::splat(0.5),
+        },
+        Some(MaterialDesc::Diffuse { albedo }) => Material::Diffuse {
+            albedo: color("albedo", albedo)?,
+        },
+        Some(MaterialDesc::Phong { albedo, exponent }) => Material::Phong {
+            albedo: color("albedo", albedo)?,
+            exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
+        },
+        Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
+            reflectance: color("reflectance", reflectance)?,
+        },
+        Some(MaterialDesc::Dielectric { ior, alpha }) => {
+            materials::dielectric(check, &field, *ior, *alpha)?
+        }
+        Some(MaterialDesc::Conductor { alpha, eta, k, f0 }) => {
+            let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
+            materials::conductor(check, &field, *alpha, *eta, *k, f0)?
+        }
+    };
+    Ok((material, texture))
+}
