@@ -450,7 +450,7 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
                 ))
             }
         },
-        sppm: sppm_keys::build(integ, &check)?,
+        sppm: sppm_keys::build(integ, check)?,
         sampler: match integ.sampler.as_str() {
             "sobol" => SamplerKind::Sobol,
             "independent" => SamplerKind::Independent,
