@@ -10,6 +10,7 @@ pub mod aov;
 pub mod bdpt;
 mod direct;
 mod equiangular;
+pub mod mlt;
 pub mod tracking;
 
 use crate::camera::Camera;
@@ -33,6 +34,8 @@ pub enum IntegratorKind {
     Path,
     /// Bidirectional path tracing ([`bdpt`]).
     Bdpt,
+    /// Metropolis light transport over the bidirectional strategies ([`mlt`]).
+    Mlt(mlt::MltSettings),
 }
 
 /// Sampling settings of a render.

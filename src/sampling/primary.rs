@@ -78,6 +78,17 @@ impl PrimarySamples {
         }
     }
 
+    /// [`PrimarySamples::new`] for another key, keeping the vector's memory
+    /// (one state per thread for the bootstrap, no allocation per sample).
+    pub fn reseed(&mut self, key: u64) {
+        let mut coords = std::mem::take(&mut self.coords);
+        coords.clear();
+        *self = PrimarySamples {
+            coords,
+            ..PrimarySamples::new(key, self.sigma, self.large_step_probability)
+        };
+    }
+
     /// Starts a proposal: a large step with the large-step probability, else a small one.
     pub fn start_iteration(&mut self) {
         self.iteration += 1;

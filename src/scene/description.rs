@@ -275,7 +275,7 @@ fn default_resolution() -> [u32; 2] {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorDesc {
-    /// Estimator: path (the default) or bdpt.
+    /// Estimator: path (the default), bdpt or mlt.
     #[serde(default = "default_integrator_type", rename = "type")]
     pub kind: String,
     /// Samples per pixel.
@@ -302,6 +302,18 @@ pub struct IntegratorDesc {
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.
     #[serde(default = "default_sampler")]
     pub sampler: String,
+    /// mlt: probability that a mutation draws a whole new path.
+    #[serde(default)]
+    pub large_step_probability: Option<f32>,
+    /// mlt: standard deviation of a small step in primary sample space.
+    #[serde(default)]
+    pub small_step_size: Option<f32>,
+    /// mlt: independent paths that estimate the image's brightness.
+    #[serde(default)]
+    pub bootstrap_samples: Option<u32>,
+    /// mlt: Markov chains run side by side.
+    #[serde(default)]
+    pub chains: Option<u32>,
 }
 
 fn default_integrator_type() -> String {
@@ -332,6 +344,10 @@ impl Default for IntegratorDesc {
             transmittance: default_transmittance(),
             equiangular: true,
             sampler: default_sampler(),
+            large_step_probability: None,
+            small_step_size: None,
+            bootstrap_samples: None,
+            chains: None,
         }
     }
 }

@@ -12,6 +12,7 @@ mod keyframes;
 mod materials;
 mod media;
 mod messages;
+mod mlt_keys;
 mod overflow;
 mod overrides;
 mod shapes;
@@ -32,6 +33,7 @@ use crate::material::Material;
 use crate::math::color::Rgb;
 use crate::sampling::SamplerKind;
 use description::{LightDesc, MaterialDesc, SceneDesc, ShapeDesc};
+use mlt_keys::{build_mlt, refuse_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
 
@@ -385,14 +387,18 @@ pub fn build_frame(
         frame_offset: desc.animation.frame_offset,
         missing: desc.animation.missing_frames,
     };
+    if integ.kind != "mlt" {
+        refuse_mlt_keys(integ, &check)?;
+    }
     let settings = Settings {
         integrator: match integ.kind.as_str() {
             "path" => IntegratorKind::Path,
             "bdpt" => IntegratorKind::Bdpt,
+            "mlt" => IntegratorKind::Mlt(build_mlt(integ, &check)?),
             other => {
                 return Err(check.error(
                     "integrator.type",
-                    format!("unknown integrator `{other}`, expected path or bdpt"),
+                    format!("unknown integrator `{other}`, expected path, bdpt or mlt"),
                 ))
             }
         },

@@ -31,6 +31,7 @@ mod connect;
 mod estimator;
 mod media;
 mod mis;
+pub mod multiplexed;
 pub mod strategies;
 mod subpath;
 mod vertex;
@@ -175,8 +176,23 @@ fn run(
     };
     let mut radiance = Rgb::BLACK;
     let BdptArena { camera, light, .. } = arena;
-    subpath::camera_subpath(scene, &ctx.sur, ray, &mut sampler, camera, &mut radiance);
-    subpath::light_subpath(scene, &ctx.sur, &ctx.sphere, time, &mut sampler, light);
+    let full = usize::MAX;
+    subpath::camera_subpath(
+        scene,
+        &ctx.sur,
+        ray,
+        &mut sampler,
+        (camera, full),
+        &mut radiance,
+    );
+    subpath::light_subpath(
+        scene,
+        &ctx.sur,
+        &ctx.sphere,
+        time,
+        &mut sampler,
+        (light, full),
+    );
     for t in 1..=camera.len() {
         for s in 0..=light.len().max(1) {
             if !allowed(scene, light, camera, s, t) {
