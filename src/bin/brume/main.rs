@@ -17,6 +17,7 @@ use std::time::Duration;
 mod debug_strategies;
 mod frames_cli;
 mod interrupt;
+mod mlt_cli;
 
 /// brume: a physically based renderer for participating media.
 #[derive(Parser)]
@@ -452,6 +453,7 @@ fn render_and_write(
 ) -> Result<i32> {
     let args = job.args;
     let (w, h) = (scene.camera.width(), scene.camera.height());
+    mlt_cli::check(scene, args)?;
     let part =
         brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
     let scene_hash = brume::render::provenance::frame_scene_hash(
@@ -685,7 +687,12 @@ fn debug_pixel(scene: &brume::integrator::Scene, (x, y): (u32, u32)) -> Result<i
         // A bidirectional pixel also gathers other pixels' light-tracing splats: its samples are not its value.
         return Err(argument(
             "--debug-pixel",
-            "replays the path tracer's samples only; this scene's [integrator] type is \"bdpt\"",
+            match scene.settings.integrator {
+                brume::integrator::IntegratorKind::Mlt(_) => {
+                    "replays the path tracer's samples only; this scene's [integrator] type is \"mlt\""
+                }
+                _ => "replays the path tracer's samples only; this scene's [integrator] type is \"bdpt\"",
+            },
         ));
     }
     let spp = scene.settings.spp;
@@ -756,7 +763,7 @@ fn warn_extensions(exr: &Path, png: &Path) {
 /// process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let splats = scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt;
+    let splats = mlt_cli::splats(scene);
     let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, splats);
     brume::error::limits::check(bytes as u128).map_err(|refusal| Error::Scene {
         file: file.to_path_buf(),
@@ -794,6 +801,7 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
             per_sample(out.tracking.voxel_steps)
         );
     }
+    mlt_cli::report(out);
     if out.nonfinite_samples > 0 {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",
