@@ -11,7 +11,7 @@ use mlt_support::*;
 /// A furnace of `medium` in an environment of radiance `env`, rendered by mlt.
 fn furnace(medium: &str, env: f32, max_depth: u32) -> String {
     SceneText::furnace_view(6)
-        .integrator(&mlt_integrator(max_depth, 1 << 17, 3))
+        .integrator(&mlt_integrator(max_depth, 1 << 19, 3))
         .environment(env)
         .raw(medium)
         .build()
@@ -23,6 +23,12 @@ fn check_brightness(text: &str, expected: f64, what: &str) {
     let out = render_mlt(&scene, 4, None);
     let stats = out.mlt.as_ref().expect("an mlt render reports its chains");
     let mean = mean_luminance(&out);
+    eprintln!(
+        "{what}: b = {} ± {}, acceptance {:.3}",
+        stats.brightness,
+        stats.brightness_std_error,
+        stats.acceptance()
+    );
     assert!(
         (mean - stats.brightness).abs() <= 1e-5 * stats.brightness,
         "{what}: image mean {mean} is not the bootstrap's brightness {}",
@@ -60,16 +66,16 @@ fn emissive_furnace_medium() {
 fn emissive_room_furnace() {
     let mut text = SceneText::camera([0.3, -0.2, 1.7], [0.0; 3], [6, 6])
         .fov(70.0)
-        .integrator(&mlt_integrator(60, 1 << 17, 5));
+        .integrator(&mlt_integrator(60, 1 << 20, 5));
     for axis in 0..3 {
         for sign in [-1.0f32, 1.0] {
             let mut center = [0.0f32; 3];
             let mut normal = [0.0f32; 3];
             center[axis] = 2.0 * sign;
             normal[axis] = -sign;
-            text = text.quad(center, normal, [4.0, 4.0]).with(
-                "emission = 1.0\nmaterial = { type = \"diffuse\", albedo = 0.0 }",
-            );
+            text = text
+                .quad(center, normal, [4.0, 4.0])
+                .with("emission = 1.0\nmaterial = { type = \"diffuse\", albedo = 0.0 }");
         }
     }
     let text = text
