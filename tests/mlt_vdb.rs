@@ -5,13 +5,13 @@
 //! own bootstrap and chains); BDPT's from its i.i.d. sample passes.
 
 mod bdpt_support;
-mod mlt_support;
 
 use bdpt_support::common::{assert_within, scene_from_str};
 use bdpt_support::{Accumulator, Estimate};
 use brume::integrator::bdpt::{strategies, BdptArena};
 use brume::math::color::Rgb;
-use mlt_support::render_mlt;
+use brume::render::{render, RenderOptions};
+use std::sync::atomic::AtomicBool;
 
 const SIZE: u32 = 8;
 
@@ -84,7 +84,15 @@ fn plume_quadrants_match_bdpt() {
         let text = plume(&format!(
             "type = \"mlt\"\nseed = {seed}\nbootstrap_samples = 65536\nchains = 16"
         ));
-        quadrants(&render_mlt(&scene_from_str(&text), 256, None).image.pixels)
+        let options = RenderOptions {
+            spp: 256,
+            time_budget: None,
+            spp_is_cap: false,
+            threads: None,
+            progress: false,
+        };
+        let out = render(&scene_from_str(&text), &options, &AtomicBool::new(false));
+        quadrants(&out.image.pixels)
     }));
     for (q, (m, b)) in mlt.iter().zip(&bdpt).enumerate() {
         let se = (m.std_error[0].powi(2) + b.std_error[0].powi(2)).sqrt();

@@ -198,7 +198,7 @@ impl Sampler<'_> {
                 st.dimension += 1;
                 return sobol::point_1d(st.reversed_index, key);
             }
-            Source::Primary(p) => return p.next(),
+            Source::Primary(p) => return p.next_1d(),
             _ => {}
         }
         // 24 random mantissa bits: uniform on a grid of 2^-24, never 1.0.
@@ -230,8 +230,8 @@ impl Sampler<'_> {
                 return glam::Vec2::new(u, v);
             }
             Source::Primary(p) => {
-                let u = p.next();
-                return glam::Vec2::new(u, p.next());
+                let u = p.next_1d();
+                return glam::Vec2::new(u, p.next_1d());
             }
             _ => {}
         }

@@ -133,7 +133,7 @@ impl PrimarySamples {
 
     /// The next number of the current stream, mutated up to this iteration.
     #[inline]
-    pub fn next(&mut self) -> f32 {
+    pub fn next_1d(&mut self) -> f32 {
         let d = self.next_dimension[self.stream];
         self.next_dimension[self.stream] = d + 1;
         let index = d * STREAMS + self.stream;

@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 pub mod common;
 
+#[allow(unused_imports)]
 pub use common::{assert_within, scene_from_str, SceneText};
 
 use brume::integrator::Scene;

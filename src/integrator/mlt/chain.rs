@@ -47,7 +47,7 @@ impl Chain {
         boot: &Bootstrap,
         index: u64,
     ) -> Option<Chain> {
-        if !(boot.brightness > 0.0) {
+        if boot.brightness.is_nan() || boot.brightness <= 0.0 {
             return None;
         }
         let seed = scene.settings.seed;

@@ -21,9 +21,9 @@ fn target(x: f32, y: f32, z: f32) -> f64 {
 fn evaluate(ps: &mut PrimarySamples) -> (f32, f32, f32) {
     ps.rewind();
     ps.set_stream(Stream::Camera);
-    let (x, y) = (ps.next(), ps.next());
+    let (x, y) = (ps.next_1d(), ps.next_1d());
     ps.set_stream(Stream::Light);
-    let z = if x > 0.5 { ps.next() } else { 0.5 };
+    let z = if x > 0.5 { ps.next_1d() } else { 0.5 };
     (x, y, z)
 }
 
