@@ -193,7 +193,7 @@ fn unknown_integrator_types_are_scene_errors() {
         .unwrap();
     assert_refused(
         &output,
-        &["scene.toml: integrator.type: unknown integrator `metropolis`, expected path or bdpt"],
+        &["scene.toml: integrator.type: unknown integrator `metropolis`, expected path, bdpt, mlt or sppm"],
         "unknown type",
     );
 }

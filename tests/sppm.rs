@@ -191,7 +191,7 @@ fn photon_keys_are_validated_in_the_users_words() {
         (
             "type = \"photons\"",
             "integrator.type",
-            "expected path, bdpt or sppm",
+            "expected path, bdpt, mlt or sppm",
         ),
     ] {
         let text = format!("{base}[integrator]\n{integrator}\n");

@@ -10,6 +10,7 @@ pub mod aov;
 pub mod bdpt;
 mod direct;
 mod equiangular;
+pub mod mlt;
 pub mod sppm;
 pub mod tracking;
 
@@ -36,6 +37,8 @@ pub enum IntegratorKind {
     Bdpt,
     /// Stochastic progressive photon mapping ([`sppm`]).
     Sppm,
+    /// Metropolis light transport over the bidirectional strategies ([`mlt`]).
+    Mlt(mlt::MltSettings),
 }
 
 /// Sampling settings of a render.

@@ -14,6 +14,7 @@ pub mod display;
 mod estimator;
 mod group;
 pub mod merge_pieces;
+mod mlt;
 pub mod output_safety;
 pub mod provenance;
 mod run;
@@ -65,6 +66,8 @@ pub struct RenderOutput {
     pub tracking: TrackingStats,
     /// Interior interval queries cut short by `geometry::closed::MAX_CROSSINGS`.
     pub truncated_interiors: u64,
+    /// A Metropolis render's bootstrap and acceptance rates (None for the other integrators).
+    pub mlt: Option<crate::integrator::mlt::MltStats>,
 }
 
 /// Bytes of the film per pixel: beauty sums and squares, finite and left-out counts.
@@ -155,7 +158,8 @@ pub fn render_observed(
 /// Renders sample indices `part.samples` of the pixels in `part.crop` only
 /// (`options.spp` is then the spp of the whole render the part belongs to),
 /// with the scene's integrator (`[integrator] type`) and AOVs, showing the
-/// image so far to `on_pass` after every finished pass.
+/// image so far to `on_pass` after every finished pass. Metropolis renders
+/// (`type = "mlt"`) take the whole frame only, and no AOVs.
 pub fn render_part(
     scene: &Scene,
     options: &RenderOptions,
@@ -172,6 +176,14 @@ pub fn render_part(
         IntegratorKind::Sppm => {
             let sppm = crate::integrator::sppm::Sppm::new(scene);
             render_part_with(scene, &sppm, options, part, cancel, on_pass)
+        }
+        IntegratorKind::Mlt(settings) => {
+            // Chains splat anywhere: the command line refuses pieces of split renders.
+            assert!(
+                *part == Part::whole(scene, options.spp),
+                "mlt renders whole frames only"
+            );
+            mlt::render(scene, &settings, options, cancel, on_pass)
         }
     }
 }

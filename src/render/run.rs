@@ -192,6 +192,7 @@ impl<'a, E: Estimator> Run<'a, E> {
             elapsed: self.start.elapsed(),
             tracking: self.rays.tracking,
             truncated_interiors: self.rays.truncated_interiors,
+            mlt: None,
         }
     }
 }

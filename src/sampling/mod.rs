@@ -17,6 +17,7 @@
 pub mod chi2;
 pub mod distribution;
 pub mod equiangular;
+pub mod primary;
 pub mod quadrature;
 pub mod sobol;
 pub mod warp;
@@ -114,7 +115,7 @@ impl PixelStreams {
     pub fn sampler(&self, sample_index: u64) -> Sampler<'_> {
         let mut sampler = Sampler::keyed(self.pcg_key, sample_index);
         if let Some(keys) = &self.sobol_keys {
-            sampler.sobol = Some(SobolState {
+            sampler.source = Source::Sobol(SobolState {
                 keys,
                 // Sample indices past 2³² wrap: they repeat points, never bias.
                 reversed_index: (sample_index as u32).reverse_bits(),
@@ -125,11 +126,25 @@ impl PixelStreams {
     }
 }
 
-/// The random stream of one (seed, pixel, sample index) triple.
-#[derive(Clone, Debug)]
+/// Where a sampler's numbers come from before (or instead of) its PCG stream.
+///
+/// One enum behind the one branch the Sobol' sampler already took: the
+/// path tracer's hot loop pays no more than before for the third source.
+#[derive(Debug)]
+enum Source<'k> {
+    /// The PCG stream alone.
+    Pcg,
+    /// Shuffled Sobol' points for the first dimensions.
+    Sobol(SobolState<'k>),
+    /// A Metropolis chain's primary-sample vector (module [`primary`]): every number.
+    Primary(&'k mut primary::PrimarySamples),
+}
+
+/// The random stream of one (seed, pixel, sample index) triple, or of a Metropolis chain's state.
+#[derive(Debug)]
 pub struct Sampler<'k> {
     rng: Pcg32,
-    sobol: Option<SobolState<'k>>,
+    source: Source<'k>,
 }
 
 impl Sampler<'static> {
@@ -144,7 +159,7 @@ impl Sampler<'static> {
         let stream = mix64(pixel_key.rotate_left(17) ^ sample_index);
         Sampler {
             rng: Pcg32::new(state, stream),
-            sobol: None,
+            source: Source::Pcg,
         }
     }
 
@@ -154,16 +169,37 @@ impl Sampler<'static> {
     }
 }
 
+impl<'k> Sampler<'k> {
+    /// A sampler drawing every number from `state`'s current stream (Metropolis).
+    pub fn primary(state: &'k mut primary::PrimarySamples) -> Sampler<'k> {
+        Sampler {
+            rng: Pcg32::new(0, 0),
+            source: Source::Primary(state),
+        }
+    }
+
+    /// Switches a primary-sample sampler to `stream` (camera, light or
+    /// connection, each with its own dimensions); other samplers ignore it.
+    #[inline]
+    pub fn set_stream(&mut self, stream: primary::Stream) {
+        if let Source::Primary(p) = &mut self.source {
+            p.set_stream(stream);
+        }
+    }
+}
+
 impl Sampler<'_> {
     /// Next uniform number in [0, 1).
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        if let Some(st) = &mut self.sobol {
-            if st.dimension < SOBOL_DIMENSIONS {
+        match &mut self.source {
+            Source::Sobol(st) if st.dimension < SOBOL_DIMENSIONS => {
                 let key = st.keys[st.dimension as usize];
                 st.dimension += 1;
                 return sobol::point_1d(st.reversed_index, key);
             }
+            Source::Primary(p) => return p.next_1d(),
+            _ => {}
         }
         // 24 random mantissa bits: uniform on a grid of 2^-24, never 1.0.
         (self.rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
@@ -186,13 +222,18 @@ impl Sampler<'_> {
     /// Next uniform point in [0, 1)².
     #[inline]
     pub fn next_2d(&mut self) -> glam::Vec2 {
-        if let Some(st) = &mut self.sobol {
-            if st.dimension + 1 < SOBOL_DIMENSIONS {
+        match &mut self.source {
+            Source::Sobol(st) if st.dimension + 1 < SOBOL_DIMENSIONS => {
                 let d = st.dimension as usize;
                 st.dimension += 2;
                 let [u, v] = sobol::point_2d(st.reversed_index, st.keys[d], st.keys[d + 1]);
                 return glam::Vec2::new(u, v);
             }
+            Source::Primary(p) => {
+                let u = p.next_1d();
+                return glam::Vec2::new(u, p.next_1d());
+            }
+            _ => {}
         }
         let u = self.independent_1d();
         glam::Vec2::new(u, self.independent_1d())

@@ -275,7 +275,7 @@ fn default_resolution() -> [u32; 2] {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IntegratorDesc {
-    /// Estimator: path (the default), bdpt or sppm.
+    /// Estimator: path (the default), bdpt, mlt or sppm.
     #[serde(default = "default_integrator_type", rename = "type")]
     pub kind: String,
     /// Samples per pixel.
@@ -311,6 +311,18 @@ pub struct IntegratorDesc {
     /// sppm: radius-reduction exponent α in (0, 1).
     #[serde(default)]
     pub alpha: Option<f32>,
+    /// mlt: probability that a mutation draws a whole new path.
+    #[serde(default)]
+    pub large_step_probability: Option<f32>,
+    /// mlt: standard deviation of a small step in primary sample space.
+    #[serde(default)]
+    pub small_step_size: Option<f32>,
+    /// mlt: independent paths that estimate the image's brightness.
+    #[serde(default)]
+    pub bootstrap_samples: Option<u32>,
+    /// mlt: Markov chains run side by side.
+    #[serde(default)]
+    pub chains: Option<u32>,
 }
 
 fn default_integrator_type() -> String {
@@ -344,6 +356,10 @@ impl Default for IntegratorDesc {
             photons: None,
             radius: None,
             alpha: None,
+            large_step_probability: None,
+            small_step_size: None,
+            bootstrap_samples: None,
+            chains: None,
         }
     }
 }

@@ -14,6 +14,7 @@ mod keyframes;
 mod materials;
 mod media;
 mod messages;
+mod mlt_keys;
 mod overflow;
 mod overrides;
 mod shapes;
@@ -34,6 +35,7 @@ use crate::light::{Environment, Light, LightPick};
 use crate::material::texture::Texture;
 use crate::sampling::SamplerKind;
 use description::{LightDesc, SceneDesc};
+use mlt_keys::{build_mlt, refuse_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
 
@@ -417,15 +419,19 @@ fn build_timing(desc: &SceneDesc, check: &Check, frame: Option<i64>) -> Result<a
 /// `[integrator]`: the estimator, its sampler and its limits.
 fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) -> Result<Settings> {
     let integ = &desc.integrator;
+    if integ.kind != "mlt" {
+        refuse_mlt_keys(integ, check)?;
+    }
     Ok(Settings {
         integrator: match integ.kind.as_str() {
             "path" => IntegratorKind::Path,
             "bdpt" => IntegratorKind::Bdpt,
+            "mlt" => IntegratorKind::Mlt(build_mlt(integ, check)?),
             "sppm" => IntegratorKind::Sppm,
             other => {
                 return Err(check.error(
                     "integrator.type",
-                    format!("unknown integrator `{other}`, expected path, bdpt or sppm"),
+                    format!("unknown integrator `{other}`, expected path, bdpt, mlt or sppm"),
                 ))
             }
         },

@@ -62,6 +62,10 @@ pub fn check_scene(scene: &Scene) -> Result<()> {
             FLAG,
             "needs [integrator] type = \"bdpt\" in the scene (path and sppm have no strategies to split)",
         )),
+        IntegratorKind::Mlt(_) => Err(argument(
+            FLAG,
+            "needs [integrator] type = \"bdpt\" in the scene (mlt's chains do not keep the strategies apart)",
+        )),
     }
 }
 

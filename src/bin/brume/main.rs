@@ -11,6 +11,7 @@ mod frames_cli;
 mod info;
 mod interrupt;
 mod merge;
+mod mlt_cli;
 mod render;
 mod render_args;
 mod render_job;

@@ -32,6 +32,7 @@ pub(crate) fn render_and_write(
 ) -> Result<i32> {
     let args = job.args;
     let (w, h) = (scene.camera.width(), scene.camera.height());
+    super::mlt_cli::check(scene, args)?;
     let part =
         brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
     let scene_hash = brume::render::provenance::frame_scene_hash(
@@ -239,7 +240,7 @@ fn render_live(
 /// process instead of giving an error.
 fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     let (w, h) = (scene.camera.width(), scene.camera.height());
-    let splats = scene.settings.integrator == brume::integrator::IntegratorKind::Bdpt;
+    let splats = super::mlt_cli::splats(scene);
     let bytes = brume::render::film_peak_bytes(w, h, &scene.aovs, splats);
     brume::error::limits::check(bytes as u128).map_err(|refusal| Error::Scene {
         file: file.to_path_buf(),
@@ -277,6 +278,7 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
             per_sample(out.tracking.voxel_steps)
         );
     }
+    super::mlt_cli::report(out);
     if out.nonfinite_samples > 0 {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",

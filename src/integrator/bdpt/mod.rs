@@ -31,6 +31,7 @@ mod connect;
 mod estimator;
 mod media;
 mod mis;
+pub mod multiplexed;
 pub mod strategies;
 mod subpath;
 mod vertex;
@@ -63,7 +64,7 @@ pub(crate) fn trace_light_subpath(
     path: &mut Vec<Vertex>,
 ) {
     let sur = Surrogate::new(scene, time);
-    subpath::light_subpath(scene, &sur, sphere, time, sampler, path);
+    subpath::light_subpath(scene, &sur, sphere, time, sampler, (path, usize::MAX));
 }
 
 /// Per-thread storage of the subpaths, reused from sample to sample (no allocation per path).
@@ -192,8 +193,23 @@ fn run(
     };
     let mut radiance = Rgb::BLACK;
     let BdptArena { camera, light, .. } = arena;
-    subpath::camera_subpath(scene, &ctx.sur, ray, &mut sampler, camera, &mut radiance);
-    subpath::light_subpath(scene, &ctx.sur, &ctx.sphere, time, &mut sampler, light);
+    let full = usize::MAX;
+    subpath::camera_subpath(
+        scene,
+        &ctx.sur,
+        ray,
+        &mut sampler,
+        (camera, full),
+        &mut radiance,
+    );
+    subpath::light_subpath(
+        scene,
+        &ctx.sur,
+        &ctx.sphere,
+        time,
+        &mut sampler,
+        (light, full),
+    );
     for t in 1..=camera.len() {
         for s in 0..=light.len().max(1) {
             if !allowed(scene, light, camera, s, t) {

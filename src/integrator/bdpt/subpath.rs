@@ -37,7 +37,8 @@ struct Walk {
     beta_start: f32,
 }
 
-/// Traces the camera subpath of `ray` into `path` (z₀ the lens).
+/// Traces the camera subpath of `ray` into `path` (z₀ the lens), at most
+/// `max_vertices` long (Metropolis states need one strategy's prefix only).
 ///
 /// Medium emission met on the way is added to `radiance`, as the path
 /// tracer does: no other strategy samples it, so it needs no weight.
@@ -46,7 +47,7 @@ pub(super) fn camera_subpath(
     sur: &Surrogate,
     ray: Ray,
     sampler: &mut Sampler,
-    path: &mut Vec<Vertex>,
+    (path, max_vertices): (&mut Vec<Vertex>, usize),
     radiance: &mut Rgb,
 ) {
     path.clear();
@@ -62,7 +63,8 @@ pub(super) fn camera_subpath(
     let limit = match settings.max_scatter_depth {
         0 => 2,
         _ => (settings.max_depth as usize).saturating_add(2),
-    };
+    }
+    .min(max_vertices);
     let walk = Walk {
         ray,
         beta: Rgb::WHITE,
@@ -75,14 +77,15 @@ pub(super) fn camera_subpath(
     random_walk(scene, sur, walk, sampler, path, radiance);
 }
 
-/// Traces a light subpath from a light picked by power into `path` (y₀ on the light).
+/// Traces a light subpath from a light picked by power into `path` (y₀ on
+/// the light), at most `max_vertices` long.
 pub(super) fn light_subpath(
     scene: &Scene,
     sur: &Surrogate,
     sphere: &SceneSphere,
     time: f32,
     sampler: &mut Sampler,
-    path: &mut Vec<Vertex>,
+    (path, max_vertices): (&mut Vec<Vertex>, usize),
 ) {
     path.clear();
     let pick = sampler.next_1d();
@@ -144,7 +147,9 @@ pub(super) fn light_subpath(
         beta,
         pdf_dir: es.pdf_dir,
         from_infinity: infinite.then_some(es.pdf_pos),
-        limit: (scene.settings.max_depth as usize).saturating_add(1),
+        limit: (scene.settings.max_depth as usize)
+            .saturating_add(1)
+            .min(max_vertices),
         mode: Mode::Light,
         beta_start: beta.max_channel(),
     };

@@ -1,0 +1,122 @@
+//! The bootstrap: independent states whose mean luminance estimates the
+//! image's brightness b, and from which chains are started in proportion to
+//! their luminance (sampling-importance resampling).
+//!
+//! Sample i has path length 1 + (i mod K) for the K lengths the scene allows,
+//! so every length gets ⌊N/K⌋ or ⌈N/K⌉ samples (the scene loader asks for
+//! N ≥ K); b is the sum over lengths of each length's mean luminance, and a
+//! sample's resampling weight is its luminance over its length's count.
+
+use super::MltSettings;
+use crate::integrator::bdpt::multiplexed::Multiplexed;
+use crate::integrator::bdpt::BdptArena;
+use crate::integrator::Scene;
+use crate::sampling::primary::PrimarySamples;
+use crate::sampling::{mix64, Sampler};
+use rayon::prelude::*;
+
+/// The bootstrap's result.
+#[derive(Clone, Debug)]
+pub struct Bootstrap {
+    /// Running sums of the resampling weights, one per sample.
+    cumulative: Vec<f64>,
+    /// Path lengths the scene allows.
+    lengths: usize,
+    /// The estimate b of the image's mean luminance (the sum of the weights).
+    pub brightness: f64,
+    /// Its standard error.
+    pub std_error: f64,
+}
+
+/// Key of the primary-sample state of bootstrap sample `i` under scene seed `seed`.
+pub fn key(seed: u64, i: u64) -> u64 {
+    mix64(seed.rotate_left(41) ^ mix64(i ^ 0x4D4C_5442_6F6F_7400))
+}
+
+impl Bootstrap {
+    /// Evaluates `settings.bootstrap_samples` independent states of `scene` (in parallel).
+    pub fn run(scene: &Scene, settings: &MltSettings, mux: &Multiplexed) -> Bootstrap {
+        let lengths = Multiplexed::max_length(scene);
+        let n = settings.bootstrap_samples as u64;
+        let seed = scene.settings.seed;
+        let init = || {
+            let ps = PrimarySamples::new(0, settings.small_step_size, 0.0);
+            (ps, BdptArena::new())
+        };
+        let luminance: Vec<f64> = (0..n)
+            .into_par_iter()
+            .map_init(init, |(ps, arena), i| {
+                ps.reseed(key(seed, i));
+                let k = 1 + (i % lengths as u64) as usize;
+                let path = mux.evaluate(scene, k, &mut Sampler::primary(ps), arena);
+                match path {
+                    Some(p) if p.radiance.is_finite() => p.radiance.luminance().max(0.0) as f64,
+                    _ => 0.0,
+                }
+            })
+            .collect();
+        Bootstrap::from_luminance(&luminance, lengths)
+    }
+
+    /// The weights, b and its standard error of samples of these luminances.
+    fn from_luminance(luminance: &[f64], lengths: usize) -> Bootstrap {
+        let n = luminance.len();
+        let count = |k: usize| ((n + lengths - 1 - k) / lengths).max(1) as f64;
+        let (mut sum, mut sum2) = (vec![0.0; lengths], vec![0.0; lengths]);
+        for (i, &l) in luminance.iter().enumerate() {
+            sum[i % lengths] += l;
+            sum2[i % lengths] += l * l;
+        }
+        let mut variance = 0.0;
+        for k in 0..lengths {
+            let m = count(k);
+            let mean = sum[k] / m;
+            if m > 1.0 {
+                variance += (sum2[k] / m - mean * mean).max(0.0) / (m - 1.0);
+            }
+        }
+        let mut total = 0.0;
+        let cumulative = luminance
+            .iter()
+            .enumerate()
+            .map(|(i, &l)| {
+                total += l / count(i % lengths);
+                total
+            })
+            .collect();
+        Bootstrap {
+            cumulative,
+            lengths,
+            brightness: total,
+            std_error: variance.sqrt(),
+        }
+    }
+
+    /// The sample whose share of the weights holds `u` ∈ [0, 1), and its path length.
+    pub fn pick(&self, u: f64) -> (u64, usize) {
+        let target = u * self.brightness;
+        let i = self.cumulative.partition_point(|&c| c <= target);
+        let i = i.min(self.cumulative.len() - 1);
+        (i as u64, 1 + i % self.lengths)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// b sums the per-length means, and resampling lands only on samples of positive weight.
+    #[test]
+    fn brightness_is_the_sum_of_the_per_length_means() {
+        // Two lengths; length 1 gets samples 0, 2, 4 and length 2 gets 1, 3.
+        let b = Bootstrap::from_luminance(&[3.0, 1.0, 0.0, 0.0, 6.0], 2);
+        assert!((b.brightness - (3.0 + 0.5)).abs() < 1e-12);
+        // Weights 1, 0.5, 0, 0, 2: cumulative 1, 1.5, 1.5, 1.5, 3.5.
+        assert_eq!(b.pick(0.0), (0, 1));
+        assert_eq!(b.pick(1.2 / 3.5), (1, 2));
+        assert_eq!(b.pick(1.6 / 3.5), (4, 1));
+        assert_eq!(b.pick(0.999_999), (4, 1));
+        // Variances: length 1 {3, 0, 6} → 9 / 3; length 2 {1, 0} → 0.5 / 2.
+        assert!((b.std_error - (3.0f64 + 0.25).sqrt()).abs() < 1e-12);
+    }
+}
