@@ -222,7 +222,8 @@ impl Geometry {
             let better = match &best {
                 None => true,
                 Some((b, bid)) => {
-                    h.t < b.t || (h.t == b.t && self.source[id as usize] < self.source[*bid as usize])
+                    h.t < b.t
+                        || (h.t == b.t && self.source[id as usize] < self.source[*bid as usize])
                 }
             };
             if better {

@@ -31,4 +31,3 @@ pub(super) fn padded(b: Bounds3, k: usize, pad: f32) -> Bounds3 {
         max: b.max + Vec3::splat(grow),
     }
 }
-

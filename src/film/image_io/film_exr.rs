@@ -126,7 +126,10 @@ fn image_channels(film: &Film, beauty: Option<&[Rgb]>) -> Channels {
     }
     for layer in &film.layers[1..] {
         for (c, name) in layer.channels.iter().enumerate() {
-            let values = (0..n).into_par_iter().map(|i| film.mean(layer, i, c)).collect();
+            let values = (0..n)
+                .into_par_iter()
+                .map(|i| film.mean(layer, i, c))
+                .collect();
             out.push(AnyChannel::new(name.as_str(), FlatSamples::F32(values)));
         }
     }
