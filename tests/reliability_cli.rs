@@ -109,7 +109,7 @@ fn smoke() -> String {
 }
 
 /// Sets up a case's folder: `s.toml`, an earlier image `keep.exr`/`keep.png`,
-/// a cube `m.obj`, a folder `dir`, a FIFO `fifo` and VDBs `inf.vdb`,
+/// a cube `m.obj`, one triangle 30 000 times `repeats.obj`, a folder `dir`, a FIFO `fifo` and VDBs `inf.vdb`,
 /// `nan.vdb`, `big.vdb` (3e38), `neg.vdb` (-1), `one.vdb` (1) and `glow.vdb`
 /// (a `density` of 1 beside an emission grid `glow` of +inf).
 fn setup(dir: &Path, scene_text: &str) {
@@ -118,6 +118,9 @@ fn setup(dir: &Path, scene_text: &str) {
     std::fs::write(dir.join("keep.png"), b"an earlier PNG image").unwrap();
     std::fs::write(dir.join("notvdb.vdb"), b"hello, not a VDB").unwrap();
     std::fs::write(dir.join("m.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    // One triangle repeated: identical boxes once made the BVH build quadratic.
+    let repeats = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_string() + &"f 1 2 3\n".repeat(30_000);
+    std::fs::write(dir.join("repeats.obj"), repeats).unwrap();
     std::fs::create_dir(dir.join("dir")).unwrap();
     let status = Command::new("mkfifo")
         .arg(dir.join("fifo"))
@@ -618,6 +621,13 @@ fn pathological_cases() -> Vec<Case> {
         case(
             "fog height 1e30",
             fog("scale_height = 1e-30\nheight = 1e30"),
+            &out(),
+            0,
+            "",
+        ),
+        case(
+            "mesh of 30000 copies of one triangle",
+            scene("[[shape]]\ntype = \"mesh\"\nfile = \"repeats.obj\"\n"),
             &out(),
             0,
             "",

@@ -40,7 +40,7 @@ fn set_pending(tmp: &Path, pending: bool) {
 mod film_exr;
 mod header;
 mod png_write;
-pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_with};
+pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_beauty, write_film_exr_with};
 pub use png_write::{
     encode_png_tonemapped, write_encoded_png, write_png, write_png_srgb8, write_png_tonemapped,
     EncodedPng,

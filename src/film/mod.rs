@@ -242,6 +242,21 @@ impl Film {
         }
     }
 
+    /// The image of a film that holds no sample yet: black, like its
+    /// [`Film::beauty_image`], without reading the film.
+    pub fn black_image(&self) -> Image {
+        Image {
+            width: self.window.width() as usize,
+            height: self.window.height() as usize,
+            pixels: (0..self.window.area())
+                .into_par_iter()
+                .map(|_| Rgb::default())
+                .collect(),
+            spp: 0,
+            partial: true,
+        }
+    }
+
     /// The means of the AOV layers, one named channel each (EXR names).
     pub fn aov_channels(&self) -> Vec<NamedChannel> {
         let mut out = Vec::new();

@@ -33,7 +33,9 @@ impl std::fmt::Debug for ClosedMesh {
     }
 }
 
-/// The nearest crossings of a ray with a closed mesh, sorted by t.
+/// The nearest crossings of a ray with a closed mesh, sorted by t and, at
+/// equal t, leaving before entering: the same list whatever order the BVH
+/// finds them in.
 #[derive(Clone, Copy, Debug)]
 pub struct Crossings {
     /// Ray parameters, increasing; the first `len` are valid.
@@ -48,6 +50,31 @@ pub struct Crossings {
 }
 
 impl Crossings {
+    /// The crossings as groups of equal t, each `(t, enters, leaves)`: a
+    /// group with both passes along the surface (a silhouette edge, a
+    /// crease) and changes nothing, whichever triangle was found first.
+    pub fn groups(&self) -> impl Iterator<Item = (f32, bool, bool)> + '_ {
+        let mut i = 0;
+        std::iter::from_fn(move || {
+            let t = *self.t[..self.len].get(i)?;
+            let (mut enters, mut leaves) = (false, false);
+            while i < self.len && self.t[i] == t {
+                enters |= self.entering[i];
+                leaves |= !self.entering[i];
+                i += 1;
+            }
+            Some((t, enters, leaves))
+        })
+    }
+
+    /// True when the ray starts inside: its first group of crossings that
+    /// changes the state leaves the volume.
+    pub fn starts_inside(&self) -> bool {
+        self.groups()
+            .find(|&(_, enters, leaves)| enters != leaves)
+            .is_some_and(|(_, _, leaves)| leaves)
+    }
+
     const EMPTY: Crossings = Crossings {
         t: [0.0; MAX_CROSSINGS],
         entering: [false; MAX_CROSSINGS],
@@ -55,17 +82,23 @@ impl Crossings {
         overflow: false,
     };
 
-    /// Inserts a crossing, keeping the nearest [`MAX_CROSSINGS`] sorted.
+    /// True when kept crossing `i` comes after `crossing` in the order of (t, entering).
+    fn after(&self, i: usize, crossing: (f32, bool)) -> bool {
+        (self.t[i], self.entering[i]) > crossing
+    }
+
+    /// Inserts a crossing, keeping the first [`MAX_CROSSINGS`] in the order
+    /// of (t, entering), so that ties are kept and dropped by that order too.
     fn insert(&mut self, t: f32, entering: bool) {
         if self.len == MAX_CROSSINGS {
             self.overflow = true;
-            if t >= self.t[MAX_CROSSINGS - 1] {
+            if !self.after(MAX_CROSSINGS - 1, (t, entering)) {
                 return;
             }
             self.len -= 1;
         }
         let mut i = self.len;
-        while i > 0 && self.t[i - 1] > t {
+        while i > 0 && self.after(i - 1, (t, entering)) {
             self.t[i] = self.t[i - 1];
             self.entering[i] = self.entering[i - 1];
             i -= 1;
@@ -105,14 +138,12 @@ impl ClosedMesh {
         out
     }
 
-    /// True when `p` lies inside: the nearest crossing along a fixed direction leaves the volume.
+    /// True when `p` lies inside: the nearest crossings along a fixed
+    /// direction that all leave or all enter (see [`Crossings::starts_inside`]) leave.
     pub fn contains(&self, p: Vec3) -> bool {
         // Off every axis and diagonal, so that it rarely runs along an edge of a modelled mesh.
         const DIR: Vec3 = Vec3::new(0.485_071_2, 0.727_606_8, 0.485_071_2);
-        let ray = Ray::new(p, DIR);
-        self.geometry
-            .intersect(&ray, f32::INFINITY)
-            .is_some_and(|h| h.geometric_normal.dot(DIR) * self.orientation > 0.0)
+        self.crossings(&Ray::new(p, DIR)).starts_inside()
     }
 
     /// True when the triangles are wound counter-clockwise seen from outside (normals outward).

@@ -3,6 +3,7 @@
 pub mod closed;
 pub mod moving;
 pub mod shapes;
+mod ties;
 
 pub use moving::MovingShape;
 pub use shapes::{sphere_uv, AreaSample, Primitive, PrimitiveHit, QuadTest};
@@ -48,6 +49,9 @@ pub struct SurfaceHit {
 pub struct Geometry {
     primitives: Vec<Primitive>,
     primitive_shape: Vec<u32>,
+    /// Index of each primitive in the items it was built from: the order of
+    /// the input, which the BVH's order must not show through (ties).
+    source: Vec<u32>,
     /// Per-corner texture coordinates of each primitive (same order), or empty when no mesh has any.
     texcoords: Vec<[Vec2; 3]>,
     /// The BVH over `primitives[..in_bvh]`.
@@ -93,7 +97,12 @@ impl Geometry {
         let (bvh, order) = if tree.is_empty() {
             (None, loose)
         } else {
-            let boxes: Vec<Boxed> = tree.iter().map(|&i| Boxed(items[i].0.bounds())).collect();
+            let pad = ties::tie_breaking_pad(&bounds);
+            let boxes: Vec<Boxed> = tree
+                .iter()
+                .enumerate()
+                .map(|(k, &i)| Boxed(ties::padded(items[i].0.bounds(), k, pad)))
+                .collect();
             let mut build_time = std::time::Duration::ZERO;
             let bvh = build_bvh2(&boxes, BvhBuildParams::medium_build(), &mut build_time);
             // BVH leaf ranges index the primitives directly; the loose ones follow.
@@ -126,6 +135,7 @@ impl Geometry {
         Geometry {
             primitives,
             primitive_shape,
+            source: order.iter().map(|&i| i as u32).collect(),
             texcoords,
             in_bvh: tree.len(),
             depth: bvh.as_ref().map_or(0, tree_depth),
@@ -155,6 +165,12 @@ impl Geometry {
     /// Primitives in traversal order.
     pub fn primitives(&self) -> &[Primitive] {
         &self.primitives
+    }
+
+    /// Index of each primitive (same order as `primitives`) in the items the
+    /// geometry was built from: a canonical order, whatever the BVH's.
+    pub fn primitive_sources(&self) -> &[u32] {
+        &self.source
     }
 
     /// Shape index of each primitive (same order as `primitives`).
@@ -198,27 +214,36 @@ impl Geometry {
 
     fn intersect_still(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
         let mut best: Option<(PrimitiveHit, u32)> = None;
-        let mut t_best = t_max;
+        // Hits at the same t (a ray through an edge) go to the primitive
+        // first in the input, so the BVH's order cannot change the image:
+        // the search bound stays just above the best t so that tied
+        // primitives (and boxes entered exactly there) are still tested.
+        let mut offer = |h: PrimitiveHit, id: u32| {
+            let better = match &best {
+                None => true,
+                Some((b, bid)) => {
+                    h.t < b.t
+                        || (h.t == b.t && self.source[id as usize] < self.source[*bid as usize])
+                }
+            };
+            if better {
+                best = Some((h, id));
+            }
+            best.as_ref().map_or(t_max, |(b, _)| b.t.next_up())
+        };
+        let mut t_bound = t_max;
         // Loose primitives first: a hit on the ground prunes the walk.
         for id in self.in_bvh..self.primitives.len() {
-            if let Some(h) = self.hit_primitive(id, ray, t_best) {
-                if h.t < t_best {
-                    t_best = h.t;
-                    best = Some((h, id as u32));
-                }
+            if let Some(h) = self.hit_primitive(id, ray, t_bound) {
+                t_bound = offer(h, id as u32);
             }
         }
         if let Some(bvh) = &self.bvh {
-            let bvh_ray = BvhRay::new(ray.origin.into(), ray.direction.into(), T_MIN, t_best);
-            // The traversal shrinks `r.tmax` to every accepted hit, so each one is
-            // closer than the last and the last one recorded is the closest.
+            let bvh_ray = BvhRay::new(ray.origin.into(), ray.direction.into(), T_MIN, t_bound);
             self.traverse(bvh, bvh_ray, &mut RayHit::none(), |node, r, _| {
                 for id in node.first_index..node.first_index + node.prim_count {
                     if let Some(h) = self.hit_primitive(id as usize, ray, r.tmax) {
-                        if h.t < r.tmax {
-                            best = Some((h, id));
-                            r.tmax = h.t;
-                        }
+                        r.tmax = offer(h, id);
                     }
                 }
                 true

@@ -163,16 +163,21 @@ pub struct LightSample {
 impl Light {
     /// Builds an area light for `shape` over its primitives in `geometry`.
     pub fn area(shape: u32, radiance: Texture, two_sided: bool, geometry: &Geometry) -> Light {
-        let mut primitives = Vec::new();
-        let mut cumulative_area = Vec::new();
+        // In the input's order, not the BVH's: which primitive a sample
+        // picks must not change with the tree.
+        let sources = geometry.primitive_sources();
+        let mut primitives: Vec<u32> = (0..geometry.primitives().len() as u32)
+            .filter(|&i| geometry.primitive_shapes()[i as usize] == shape)
+            .collect();
+        primitives.sort_unstable_by_key(|&i| sources[i as usize]);
         let mut total = 0.0;
-        for (i, &s) in geometry.primitive_shapes().iter().enumerate() {
-            if s == shape {
-                total += geometry.primitives()[i].area();
-                primitives.push(i as u32);
-                cumulative_area.push(total);
-            }
-        }
+        let cumulative_area = primitives
+            .iter()
+            .map(|&i| {
+                total += geometry.primitives()[i as usize].area();
+                total
+            })
+            .collect();
         let sphere = match primitives.as_slice() {
             &[only] => match geometry.primitives()[only as usize] {
                 Primitive::Sphere { center, radius } => Some((center, radius)),

@@ -120,19 +120,22 @@ impl ShapeMask {
             ShapeMask::Mesh(mesh) => {
                 let c = mesh.crossings(ray);
                 let kept = &c.t[..c.len];
-                // Inside at the origin when the nearest crossing leaves the volume.
-                let mut inside = c.len > 0 && !c.entering[0];
+                let mut inside = c.starts_inside();
                 let mut start = 0.0f32;
-                for (&t, &entering) in kept.iter().zip(&c.entering) {
+                for (t, enters, leaves) in c.groups() {
                     if t >= t_max {
                         break;
                     }
-                    // A crossing that does not change the state is a duplicate
-                    // (a ray through an edge hits both triangles): skipped.
-                    if entering && !inside {
+                    // A group that does not change the state is a duplicate
+                    // (a ray through an edge hits both triangles) or passes
+                    // along the surface (both kinds at one t): skipped.
+                    if enters == leaves {
+                        continue;
+                    }
+                    if enters && !inside {
                         start = t;
                         inside = true;
-                    } else if !entering && inside {
+                    } else if leaves && inside {
                         out.push(start, t);
                         inside = false;
                     }

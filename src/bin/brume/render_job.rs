@@ -183,7 +183,7 @@ fn write_images(
             }
             false => Vec::new(),
         };
-        image_io::write_film_exr_with(exr_path, &out.film, &denoised)
+        image_io::write_film_exr_beauty(exr_path, &out.film, &out.image, &denoised)
     };
     let (exr, png) = std::thread::scope(|s| {
         let exr = s.spawn(write_exr);

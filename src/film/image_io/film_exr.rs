@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::film::runs::{decode_runs, encode_runs};
 use crate::film::{format_ranges, parse_ranges, Film, Provenance, Rect};
 use crate::integrator::aov::Aov;
+use crate::math::color::Rgb;
 use exr::meta::attribute::{AttributeValue, IntegerBounds, Text};
 use exr::prelude::{
     AnyChannel, AnyChannels, FlatSamples, Image as ExrImage, ImageAttributes, Layer as ExrLayer,
@@ -46,14 +47,37 @@ pub fn write_film_exr(path: &Path, film: &Film) -> Result<()> {
 /// `brume:nonfinite` (the beauty's finite and left-out samples per pixel),
 /// `brume:count.NAME` (each AOV's), `brume:version`.
 pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChannel]) -> Result<()> {
+    write_film(path, film, None, extra)
+}
+
+/// [`write_film_exr_with`] given the film's beauty image already computed
+/// (`Film::beauty_image`), so that a stopped render does not compute its
+/// pixels twice on the way to the exit.
+pub fn write_film_exr_beauty(
+    path: &Path,
+    film: &Film,
+    beauty: &super::Image,
+    extra: &[super::NamedChannel],
+) -> Result<()> {
+    write_film(path, film, Some(&beauty.pixels), extra)
+}
+
+fn write_film(
+    path: &Path,
+    film: &Film,
+    beauty: Option<&[Rgb]>,
+    extra: &[super::NamedChannel],
+) -> Result<()> {
     let w = &film.window;
-    if let Some((name, _)) = extra.iter().find(|(_, v)| v.len() != w.area()) {
+    let sizes = extra.iter().map(|(name, v)| (name.as_str(), v.len()));
+    let beauty_size = beauty.map(|b| ("R, G, B", b.len()));
+    if let Some((name, _)) = sizes.chain(beauty_size).find(|&(_, n)| n != w.area()) {
         return Err(super::output_error(
             path,
             format!("channel {name} does not match the image size"),
         ));
     }
-    let mut channels = image_channels(film);
+    let mut channels = image_channels(film, beauty);
     for (name, values) in extra {
         channels.push(AnyChannel::new(
             name.as_str(),
@@ -79,14 +103,22 @@ pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChanne
     })
 }
 
-/// The f32 means of every layer: the beauty (with its splats) and the AOVs.
-fn image_channels(film: &Film) -> Channels {
+/// The f32 means of every layer: the beauty (with its splats; `beauty` if
+/// given, else computed) and the AOVs.
+fn image_channels(film: &Film, beauty: Option<&[Rgb]>) -> Channels {
     let n = film.window.area();
     // In parallel: after a stop request this stands between the request and the exit.
-    let pixels: Vec<_> = (0..n).into_par_iter().map(|i| film.pixel(i)).collect();
+    let computed: Vec<Rgb>;
+    let pixels = match beauty {
+        Some(pixels) => pixels,
+        None => {
+            computed = (0..n).into_par_iter().map(|i| film.pixel(i)).collect();
+            &computed
+        }
+    };
     let mut out = Channels::new();
     for c in 0..3 {
-        let values = pixels.iter().map(|p| p[c]).collect();
+        let values = pixels.par_iter().map(|p| p[c]).collect();
         out.push(AnyChannel::new(
             film.layers[0].channels[c].as_str(),
             FlatSamples::F32(values),
@@ -94,7 +126,10 @@ fn image_channels(film: &Film) -> Channels {
     }
     for layer in &film.layers[1..] {
         for (c, name) in layer.channels.iter().enumerate() {
-            let values = (0..n).map(|i| film.mean(layer, i, c)).collect();
+            let values = (0..n)
+                .into_par_iter()
+                .map(|i| film.mean(layer, i, c))
+                .collect();
             out.push(AnyChannel::new(name.as_str(), FlatSamples::F32(values)));
         }
     }
