@@ -339,7 +339,7 @@ fn prepare_outputs(dir: &Path) -> Result<()> {
         argument: flag(),
         message: format!("cannot create the folder {}: {e}", dir.display()),
     })?;
-    let mut plan = crate::render::output_safety::Plan::new("airlight demo");
+    let mut plan = crate::film::output_safety::Plan::new("airlight demo");
     for name in OUTPUT_FILES {
         plan.output("--out", &dir.join(name), None);
     }

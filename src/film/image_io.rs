@@ -82,7 +82,7 @@ fn write_atomically(
     path: &Path,
     write: impl FnOnce(&Path) -> std::result::Result<(), String>,
 ) -> Result<()> {
-    let dest = crate::render::output_safety::destination(path);
+    let dest = crate::film::output_safety::destination(path);
     let tmp = temp_path(&dest);
     set_pending(&tmp, true);
     let result = match write(&tmp) {

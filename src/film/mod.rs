@@ -13,13 +13,16 @@
 //! The renderer fills a film through `render`; the EXR form is in
 //! `image_io::film_exr`.
 
+pub mod aov;
 pub mod compare;
 pub mod denoise;
+pub mod frame_pattern;
 pub mod image_io;
 pub mod merge;
+pub mod output_safety;
 pub mod tonemap;
+use crate::film::aov::Aov;
 use crate::film::image_io::{Image, NamedChannel};
-use crate::integrator::aov::Aov;
 use crate::math::color::Rgb;
 use rayon::prelude::*;
 

@@ -10,6 +10,7 @@ pub mod aov;
 pub mod bdpt;
 mod direct;
 mod equiangular;
+pub mod estimator;
 pub mod mlt;
 pub mod sppm;
 pub mod tracking;

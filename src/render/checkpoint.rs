@@ -12,8 +12,8 @@
 
 use crate::error::Result;
 use crate::film::image_io::{write_exr, write_png_tonemapped, Image};
+use crate::film::output_safety::place_partial;
 use crate::film::tonemap::Tonemap;
-use crate::render::output_safety::place_partial;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 

@@ -3,9 +3,9 @@
 //! thread that runs it; splats are gathered per unit and added to the pass's
 //! splat sums in unit order, so nothing depends on the thread count.
 
-use super::estimator::Estimator;
 use crate::film::{PixelSums, Splat, Splats};
 use crate::integrator::aov::{aov_sample, AovPixel};
+use crate::integrator::estimator::Estimator;
 use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::Scene;
 use indicatif::ProgressBar;

@@ -4,8 +4,8 @@
 
 use crate::error::{Error, Result};
 use crate::film::merge::{merge, Merged};
+use crate::film::output_safety::{identity, place_partial, Placement, Plan};
 use crate::film::{denoise, image_io, Film};
-use crate::render::output_safety::{identity, place_partial, Placement, Plan};
 use std::path::{Path, PathBuf};
 
 /// Reads the pieces, merges them and writes the merged film to `out` (and a

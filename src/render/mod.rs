@@ -11,16 +11,15 @@
 pub mod checkpoint;
 pub mod cli_values;
 pub mod display;
-mod estimator;
+
 mod group;
 pub mod merge_pieces;
 mod mlt;
-pub mod output_safety;
 pub mod provenance;
 mod run;
 pub mod split;
 
-pub use estimator::{pixel_sample, Estimator, PathTracer};
+pub use crate::integrator::estimator::{pixel_sample, Estimator, PathTracer};
 
 use crate::film::image_io::{Image, NamedChannel};
 use crate::film::{Film, PixelSums, Provenance, Rect, SampleRange};

@@ -71,7 +71,7 @@ pub fn files_read(desc: &SceneDesc, scene: &Path, frame: Option<i64>) -> Vec<Inp
 /// each named by its key, a frame pattern as the whole sequence on disk
 /// (see `Plan::input_sequence`). The scene is read and parsed once.
 pub fn add_to_plan(
-    plan: &mut crate::render::output_safety::Plan,
+    plan: &mut crate::film::output_safety::Plan,
     scene: &Path,
     overrides: &[super::Override],
 ) -> Result<()> {

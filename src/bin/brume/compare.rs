@@ -2,8 +2,8 @@
 
 use brume::error::Result;
 use brume::film::image_io;
+use brume::film::output_safety::Plan;
 use brume::render::cli_values as values;
-use brume::render::output_safety::Plan;
 use std::path::PathBuf;
 
 #[derive(clap::Args)]

@@ -9,9 +9,9 @@ use std::path::Path;
 
 use brume::error::{Error, Result};
 use brume::film::image_io::{self, Image};
+use brume::film::output_safety::Plan;
 use brume::integrator::bdpt::strategies::render_strategies;
 use brume::integrator::{IntegratorKind, Scene};
-use brume::render::output_safety::Plan;
 
 use super::render_args::{argument, RenderArgs};
 

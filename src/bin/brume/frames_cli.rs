@@ -117,7 +117,7 @@ fn check_sequence_outputs(
     exr_pattern: &Path,
     png_pattern: &Path,
 ) -> Result<()> {
-    let mut plan = brume::render::output_safety::Plan::new("render");
+    let mut plan = brume::film::output_safety::Plan::new("render");
     brume::scene::inputs::add_to_plan(&mut plan, &args.scene, &args.set)?;
     plan.image_output_frames("--out", exr_pattern, frames);
     plan.image_output_frames("--png", png_pattern, frames);

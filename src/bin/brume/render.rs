@@ -2,7 +2,7 @@
 //! --debug-pixel, one pixel replayed), from flags to written images.
 
 use brume::error::Result;
-use brume::render::output_safety::Plan;
+use brume::film::output_safety::Plan;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 

@@ -117,7 +117,7 @@ fn save(
     (exr_path, png_path): (&Path, &Path),
     checkpoint: Option<&mut brume::render::checkpoint::Checkpoint>,
 ) -> Result<i32> {
-    use brume::render::output_safety::{place_partial, Placement};
+    use brume::film::output_safety::{place_partial, Placement};
     let place = match out.image.partial {
         true => place_partial(exr_path, Some(png_path), out.image.spp),
         false => Placement::requested(exr_path, Some(png_path)),

@@ -14,9 +14,9 @@
 //! rounding (see `merge`); a crop's pixels come back bit for bit.
 
 use crate::error::{Error, Result};
+use crate::film::aov::Aov;
 use crate::film::runs::{decode_runs, encode_runs};
 use crate::film::{format_ranges, parse_ranges, Film, Provenance, Rect};
-use crate::integrator::aov::Aov;
 use crate::math::color::Rgb;
 use exr::meta::attribute::{AttributeValue, IntegerBounds, Text};
 use exr::prelude::{

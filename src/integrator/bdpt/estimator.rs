@@ -3,9 +3,9 @@
 
 use super::{sample_with_streams, BdptArena};
 use crate::film::Splat;
+use crate::integrator::estimator::Estimator;
 use crate::integrator::Scene;
 use crate::math::color::Rgb;
-use crate::render::Estimator;
 use crate::sampling::PixelStreams;
 
 /// Bidirectional path tracing (`[integrator] type = "bdpt"`).

@@ -30,10 +30,10 @@ pub mod photons;
 
 use crate::film::Splat;
 use crate::integrator::bdpt::scene_sphere;
+use crate::integrator::estimator::Estimator;
 use crate::integrator::{li_gathering, Scene};
 use crate::light::SceneSphere;
 use crate::math::color::Rgb;
-use crate::render::Estimator;
 use crate::sampling::PixelStreams;
 use gather::Gatherer;
 use photons::PhotonMap;

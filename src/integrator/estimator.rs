@@ -1,5 +1,7 @@
-//! What the driver asks of an integrator: the radiance of one camera sample,
-//! and the light-traced contributions (splats) that sample lands elsewhere.
+//! What the render driver (module `render`) asks of an integrator: the
+//! radiance of one camera sample, and the light-traced contributions
+//! (splats) that sample lands elsewhere. It lives beside the integrators so
+//! that they implement it without importing the driver.
 
 use crate::film::Splat;
 use crate::integrator::{li, Scene};

@@ -25,7 +25,7 @@ pub use writable::destination;
 use writable::Folders;
 
 use crate::error::{Error, Result};
-use crate::scene::animation::substitute;
+use crate::film::frame_pattern::substitute;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -132,7 +132,7 @@ impl Plan {
         if self.sequences.iter().any(|e| e.path == pattern) {
             return self;
         }
-        for file in crate::scene::animation::sequence_files(pattern) {
+        for file in crate::film::frame_pattern::sequence_files(pattern) {
             self.input(what, &file);
         }
         self.sequences.push(Input {
