@@ -281,40 +281,14 @@ impl Light {
             Light::Point {
                 position,
                 intensity,
-            } => {
-                let d = *position - p;
-                let dist2 = d.length_squared();
-                let distance = dist2.sqrt();
-                Some(LightSample {
-                    wi: d / distance,
-                    distance,
-                    radiance: *intensity / dist2,
-                    pdf: 1.0,
-                    is_delta: true,
-                    normal: Vec3::ZERO,
-                })
-            }
+            } => Some(sample_point(*position, *intensity, p)),
             Light::Spot {
                 position,
                 axis,
                 intensity,
                 cos_inner,
                 cos_outer,
-            } => {
-                let d = *position - p;
-                let dist2 = d.length_squared();
-                let distance = dist2.sqrt();
-                let wi = d / distance;
-                let falloff = spot_falloff(axis.dot(-wi), *cos_inner, *cos_outer);
-                (falloff > 0.0).then(|| LightSample {
-                    wi,
-                    distance,
-                    radiance: *intensity * (falloff / dist2),
-                    pdf: 1.0,
-                    is_delta: true,
-                    normal: Vec3::ZERO,
-                })
-            }
+            } => sample_spot(*position, *axis, *intensity, (*cos_inner, *cos_outer), p),
             Light::Area {
                 moving: true,
                 shape,
@@ -325,27 +299,7 @@ impl Light {
                 to_sun,
                 irradiance,
                 cos_max,
-            } => {
-                if *cos_max >= 1.0 {
-                    return Some(LightSample {
-                        wi: *to_sun,
-                        distance: f32::INFINITY,
-                        radiance: *irradiance,
-                        pdf: 1.0,
-                        is_delta: true,
-                        normal: Vec3::ZERO,
-                    });
-                }
-                let local = warp::square_to_uniform_cone(u, *cos_max);
-                Some(LightSample {
-                    wi: Frame::from_z(*to_sun).to_world(local).normalize(),
-                    distance: f32::INFINITY,
-                    radiance: sun_radiance(*irradiance, *cos_max),
-                    pdf: warp::uniform_cone_pdf(*cos_max),
-                    is_delta: false,
-                    normal: Vec3::ZERO,
-                })
-            }
+            } => Some(sample_sun(*to_sun, *irradiance, *cos_max, u)),
             Light::Environment(Environment::Map(map)) => map.sample(u).map(|s| LightSample {
                 wi: s.wi,
                 distance: f32::INFINITY,
@@ -354,27 +308,7 @@ impl Light {
                 is_delta: false,
                 normal: Vec3::ZERO,
             }),
-            Light::Environment(env) => {
-                let (wi, pdf) = match normal {
-                    Some(n) => {
-                        let local = warp::square_to_cosine_hemisphere(u);
-                        let pdf = warp::cosine_hemisphere_pdf(local);
-                        (Frame::from_z(n).to_world(local).normalize(), pdf)
-                    }
-                    None => (
-                        warp::square_to_uniform_sphere(u),
-                        warp::uniform_sphere_pdf(),
-                    ),
-                };
-                (pdf > 0.0).then(|| LightSample {
-                    wi,
-                    distance: f32::INFINITY,
-                    radiance: env.radiance(wi),
-                    pdf,
-                    is_delta: false,
-                    normal: Vec3::ZERO,
-                })
-            }
+            Light::Environment(env) => sample_uniform_environment(env, normal, u),
         }
     }
 
@@ -550,6 +484,100 @@ fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
         let t = (cos_angle - cos_outer) / (cos_inner - cos_outer);
         t * t * (3.0 - 2.0 * t)
     }
+}
+
+/// A point light seen from `p`: its one direction, radiance falling as 1/d².
+#[inline]
+fn sample_point(position: Vec3, intensity: Rgb, p: Vec3) -> LightSample {
+    let d = position - p;
+    let dist2 = d.length_squared();
+    let distance = dist2.sqrt();
+    LightSample {
+        wi: d / distance,
+        distance,
+        radiance: intensity / dist2,
+        pdf: 1.0,
+        is_delta: true,
+        normal: Vec3::ZERO,
+    }
+}
+
+/// A spot light seen from `p`: a point light times its cone's falloff (none outside the cone).
+#[inline]
+fn sample_spot(
+    position: Vec3,
+    axis: Vec3,
+    intensity: Rgb,
+    (cos_inner, cos_outer): (f32, f32),
+    p: Vec3,
+) -> Option<LightSample> {
+    let d = position - p;
+    let dist2 = d.length_squared();
+    let distance = dist2.sqrt();
+    let wi = d / distance;
+    let falloff = spot_falloff(axis.dot(-wi), cos_inner, cos_outer);
+    (falloff > 0.0).then(|| LightSample {
+        wi,
+        distance,
+        radiance: intensity * (falloff / dist2),
+        pdf: 1.0,
+        is_delta: true,
+        normal: Vec3::ZERO,
+    })
+}
+
+/// The sun: its one direction when it is a point on the sky, else a uniform
+/// direction in its disc's cone.
+#[inline]
+fn sample_sun(to_sun: Vec3, irradiance: Rgb, cos_max: f32, u: Vec2) -> LightSample {
+    if cos_max >= 1.0 {
+        return LightSample {
+            wi: to_sun,
+            distance: f32::INFINITY,
+            radiance: irradiance,
+            pdf: 1.0,
+            is_delta: true,
+            normal: Vec3::ZERO,
+        };
+    }
+    let local = warp::square_to_uniform_cone(u, cos_max);
+    LightSample {
+        wi: Frame::from_z(to_sun).to_world(local).normalize(),
+        distance: f32::INFINITY,
+        radiance: sun_radiance(irradiance, cos_max),
+        pdf: warp::uniform_cone_pdf(cos_max),
+        is_delta: false,
+        normal: Vec3::ZERO,
+    }
+}
+
+/// A constant or sky environment: cosine-weighted about a surface's
+/// `normal`, uniform over the sphere from a point in a medium.
+#[inline]
+fn sample_uniform_environment(
+    env: &Environment,
+    normal: Option<Vec3>,
+    u: Vec2,
+) -> Option<LightSample> {
+    let (wi, pdf) = match normal {
+        Some(n) => {
+            let local = warp::square_to_cosine_hemisphere(u);
+            let pdf = warp::cosine_hemisphere_pdf(local);
+            (Frame::from_z(n).to_world(local).normalize(), pdf)
+        }
+        None => (
+            warp::square_to_uniform_sphere(u),
+            warp::uniform_sphere_pdf(),
+        ),
+    };
+    (pdf > 0.0).then(|| LightSample {
+        wi,
+        distance: f32::INFINITY,
+        radiance: env.radiance(wi),
+        pdf,
+        is_delta: false,
+        normal: Vec3::ZERO,
+    })
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@
 
 use glam::{I64Vec3, IVec3, Vec3};
 
-use crate::volume::FloatGrid;
+use crate::volume::{Block, FloatGrid};
 
 mod dilate;
 
@@ -136,77 +136,21 @@ impl MajorantGrid {
     pub fn build(grid: &FloatGrid, lo: Vec3, hi: Vec3, cell: Vec3) -> MajorantGrid {
         let dims = ((hi - lo) / cell).ceil().as_ivec3().max(IVec3::ONE);
         let n = (dims.x * dims.y * dims.z) as usize;
-        let mut max = vec![f32::NEG_INFINITY; n];
-        let mut min = vec![f32::INFINITY; n];
-        let mut covered = vec![0u64; n];
-        // Index arithmetic in i64: a sparse grid may hold voxels at both ends
-        // of the i32 range, whose differences overflow i32.
-        let cell_i = cell.ceil().as_i64vec3();
-        // Voxel support of cell c: [first + c·cell, first + c·cell + span) per axis
-        // (module doc), the same span for every cell as cells are whole voxels.
-        let first = (lo - ROUNDING_REACH).floor().as_i64vec3();
-        let span = (lo + ROUNDING_REACH).floor().as_i64vec3() - first + cell_i + I64Vec3::splat(2);
-        let support_lo = |c: I64Vec3| first + c * cell_i;
-        // None when beyond u64 (cells of millions of voxels): never known covered.
-        let support_volume = u64::try_from(volume(span)).ok();
-        let last = dims.as_i64vec3() - I64Vec3::ONE;
-        let index = |x: i64, y: i64, z: i64| (x + dims.x as i64 * (y + dims.y as i64 * z)) as usize;
+        let layout = CellLayout::new(lo, cell, dims);
+        let mut bounds = CellBounds {
+            max: vec![f32::NEG_INFINITY; n],
+            min: vec![f32::INFINITY; n],
+            covered: vec![0u64; n],
+        };
         for block in grid.blocks() {
-            let b_lo = block.min.as_i64vec3();
-            let b_hi = b_lo + I64Vec3::splat(block.size as i64 - 1);
             let per_voxel = block.size == 8 && block.min_value != block.max_value;
-            // Cells whose support meets the block.
-            let c_lo = div_floor(b_lo - first - span + I64Vec3::ONE, cell_i).max(I64Vec3::ZERO);
-            let c_hi = div_floor(b_hi - first, cell_i).min(last);
-            for z in c_lo.z..=c_hi.z {
-                for y in c_lo.y..=c_hi.y {
-                    for x in c_lo.x..=c_hi.x {
-                        let s_lo = support_lo(I64Vec3::new(x, y, z));
-                        let s_hi = s_lo + span - I64Vec3::ONE;
-                        let overlap = volume(s_hi.min(b_hi) - s_lo.max(b_lo) + I64Vec3::ONE);
-                        if overlap == 0 {
-                            continue;
-                        }
-                        let i = index(x, y, z);
-                        if !per_voxel {
-                            max[i] = max[i].max(block.max_value);
-                            min[i] = min[i].min(block.min_value);
-                        }
-                        covered[i] =
-                            covered[i].saturating_add(overlap.min(u64::MAX as u128) as u64);
-                    }
-                }
-            }
+            layout.cover_block(&block, per_voxel, &mut bounds);
             if per_voxel {
                 // Leaf bricks vary inside: bound each cell by the voxels its support holds.
-                for v in 0..512 {
-                    let local = IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
-                    let value = grid.value(block.min + local);
-                    let rel = b_lo + local.as_i64vec3() - first;
-                    let c0 = div_ceil(rel - span + I64Vec3::ONE, cell_i).max(I64Vec3::ZERO);
-                    let c1 = div_floor(rel, cell_i).min(last);
-                    for z in c0.z..=c1.z {
-                        for y in c0.y..=c1.y {
-                            for x in c0.x..=c1.x {
-                                let i = index(x, y, z);
-                                max[i] = max[i].max(value);
-                                min[i] = min[i].min(value);
-                            }
-                        }
-                    }
-                }
+                layout.bound_brick_voxels(grid, &block, &mut bounds);
             }
         }
-        let background = grid.background();
-        for i in 0..n {
-            // Bricks and tiles are disjoint: less coverage than the support means background voxels.
-            if support_volume.is_none_or(|s| covered[i] < s) {
-                max[i] = max[i].max(background);
-                min[i] = min[i].min(background);
-            }
-            max[i] = max[i].max(0.0) * (1.0 + ROUNDING_PAD);
-            min[i] = min[i].max(0.0) * (1.0 - ROUNDING_PAD);
-        }
+        let (max, min) = bounds.finish(grid.background(), layout.support_volume());
         MajorantGrid {
             origin: lo,
             cell,
@@ -311,6 +255,119 @@ impl Dda {
             self.t = self.t_end;
         }
         Some((cell, t0, t1.max(t0)))
+    }
+}
+
+/// Per-cell density bounds while a majorant grid is built, with the number
+/// of voxels of each cell's support that blocks cover.
+struct CellBounds {
+    max: Vec<f32>,
+    min: Vec<f32>,
+    covered: Vec<u64>,
+}
+
+impl CellBounds {
+    /// The final (max, min) per cell: the background where blocks leave part of
+    /// a support uncovered, clamped to ≥ 0 and padded against rounding.
+    fn finish(mut self, background: f32, support_volume: Option<u64>) -> (Vec<f32>, Vec<f32>) {
+        for i in 0..self.max.len() {
+            // Bricks and tiles are disjoint: less coverage than the support means background voxels.
+            if support_volume.is_none_or(|s| self.covered[i] < s) {
+                self.max[i] = self.max[i].max(background);
+                self.min[i] = self.min[i].min(background);
+            }
+            self.max[i] = self.max[i].max(0.0) * (1.0 + ROUNDING_PAD);
+            self.min[i] = self.min[i].max(0.0) * (1.0 - ROUNDING_PAD);
+        }
+        (self.max, self.min)
+    }
+}
+
+/// Where each cell's voxel support lies, in i64 index arithmetic: a sparse
+/// grid may hold voxels at both ends of the i32 range, whose differences
+/// overflow i32.
+struct CellLayout {
+    dims: IVec3,
+    cell_i: I64Vec3,
+    /// Voxel support of cell c: [first + c·cell, first + c·cell + span) per
+    /// axis (module doc), the same span for every cell as cells are whole voxels.
+    first: I64Vec3,
+    span: I64Vec3,
+    last: I64Vec3,
+}
+
+impl CellLayout {
+    fn new(lo: Vec3, cell: Vec3, dims: IVec3) -> CellLayout {
+        let cell_i = cell.ceil().as_i64vec3();
+        let first = (lo - ROUNDING_REACH).floor().as_i64vec3();
+        let span = (lo + ROUNDING_REACH).floor().as_i64vec3() - first + cell_i + I64Vec3::splat(2);
+        CellLayout {
+            dims,
+            cell_i,
+            first,
+            span,
+            last: dims.as_i64vec3() - I64Vec3::ONE,
+        }
+    }
+
+    /// Voxels in one cell's support; `None` beyond u64 (cells of millions of
+    /// voxels): never known covered.
+    fn support_volume(&self) -> Option<u64> {
+        u64::try_from(volume(self.span)).ok()
+    }
+
+    fn index(&self, x: i64, y: i64, z: i64) -> usize {
+        (x + self.dims.x as i64 * (y + self.dims.y as i64 * z)) as usize
+    }
+
+    /// Adds `block`'s voxel count to every cell whose support meets it, and
+    /// (unless its voxels are bounded one by one) its value range.
+    fn cover_block(&self, block: &Block, per_voxel: bool, bounds: &mut CellBounds) {
+        let b_lo = block.min.as_i64vec3();
+        let b_hi = b_lo + I64Vec3::splat(block.size as i64 - 1);
+        let c_lo =
+            div_floor(b_lo - self.first - self.span + I64Vec3::ONE, self.cell_i).max(I64Vec3::ZERO);
+        let c_hi = div_floor(b_hi - self.first, self.cell_i).min(self.last);
+        for z in c_lo.z..=c_hi.z {
+            for y in c_lo.y..=c_hi.y {
+                for x in c_lo.x..=c_hi.x {
+                    let s_lo = self.first + I64Vec3::new(x, y, z) * self.cell_i;
+                    let s_hi = s_lo + self.span - I64Vec3::ONE;
+                    let overlap = volume(s_hi.min(b_hi) - s_lo.max(b_lo) + I64Vec3::ONE);
+                    if overlap == 0 {
+                        continue;
+                    }
+                    let i = self.index(x, y, z);
+                    if !per_voxel {
+                        bounds.max[i] = bounds.max[i].max(block.max_value);
+                        bounds.min[i] = bounds.min[i].min(block.min_value);
+                    }
+                    bounds.covered[i] =
+                        bounds.covered[i].saturating_add(overlap.min(u64::MAX as u128) as u64);
+                }
+            }
+        }
+    }
+
+    /// Bounds every cell by each voxel of the 8³ brick `block` its support holds.
+    fn bound_brick_voxels(&self, grid: &FloatGrid, block: &Block, bounds: &mut CellBounds) {
+        let b_lo = block.min.as_i64vec3();
+        for v in 0..512 {
+            let local = IVec3::new(v >> 6, (v >> 3) & 7, v & 7);
+            let value = grid.value(block.min + local);
+            let rel = b_lo + local.as_i64vec3() - self.first;
+            let c0 = div_ceil(rel - self.span + I64Vec3::ONE, self.cell_i).max(I64Vec3::ZERO);
+            let c1 = div_floor(rel, self.cell_i).min(self.last);
+            for z in c0.z..=c1.z {
+                for y in c0.y..=c1.y {
+                    for x in c0.x..=c1.x {
+                        let i = self.index(x, y, z);
+                        bounds.max[i] = bounds.max[i].max(value);
+                        bounds.min[i] = bounds.min[i].min(value);
+                    }
+                }
+            }
+        }
     }
 }
 
