@@ -252,6 +252,7 @@ fn check_memory(scene: &brume::integrator::Scene, file: &Path) -> Result<()> {
     })
 }
 
+/// The render's summary lines on stderr: rate, tracking statistics, warnings.
 fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
     let secs = out.elapsed.as_secs_f64();
     eprintln!(
@@ -279,6 +280,11 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         );
     }
     super::mlt_cli::report(out);
+    warn_dropped_work(out);
+}
+
+/// Warnings for samples, splats, rays and crossings the render left out.
+fn warn_dropped_work(out: &brume::render::RenderOutput) {
     if out.nonfinite_samples > 0 {
         eprintln!(
             "warning: {} NaN/infinite samples were left out of the image",

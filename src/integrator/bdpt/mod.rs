@@ -210,14 +210,31 @@ fn run(
         &mut sampler,
         (light, full),
     );
+    radiance += evaluate_strategies(
+        &ctx,
+        (light.as_slice(), camera.as_slice()),
+        &mut sampler,
+        report,
+    );
+    radiance
+}
+
+/// Evaluates every allowed strategy (s, t) of the traced subpaths, reporting
+/// each (t = 1 as a splat) to `report`; returns the sum of the weighted t ≥ 2 ones.
+fn evaluate_strategies(
+    ctx: &Context,
+    (light, camera): (&[Vertex], &[Vertex]),
+    sampler: &mut crate::sampling::Sampler,
+    report: &mut dyn FnMut(Event),
+) -> Rgb {
+    let mut radiance = Rgb::BLACK;
     for t in 1..=camera.len() {
         for s in 0..=light.len().max(1) {
-            if !allowed(scene, light, camera, s, t) {
+            if !allowed(ctx.scene, light, camera, s, t) {
                 continue;
             }
             if t == 1 {
-                let Some((raster, c)) = connect::light_trace(&ctx, &light[..s], &mut sampler)
-                else {
+                let Some((raster, c)) = connect::light_trace(ctx, &light[..s], sampler) else {
                     continue;
                 };
                 let (px, py) = (raster.x as u32, raster.y as u32);
@@ -225,9 +242,9 @@ fn run(
                 continue;
             }
             let c = match s {
-                0 => connect::emission(&ctx, &camera[..t]),
-                1 => connect::next_event(&ctx, &camera[..t], &mut sampler),
-                _ => connect::connect(&ctx, &light[..s], &camera[..t], &mut sampler),
+                0 => connect::emission(ctx, &camera[..t]),
+                1 => connect::next_event(ctx, &camera[..t], sampler),
+                _ => connect::connect(ctx, &light[..s], &camera[..t], sampler),
             };
             radiance += c.weighted;
             report(Event::Camera { s, t, c });
