@@ -7,7 +7,8 @@ use super::positive;
 use super::vertex::{Kind, Vertex};
 use crate::integrator::tracking::{sample_free_flight, FreeFlight};
 use crate::integrator::Scene;
-use crate::light::SceneSphere;
+
+use crate::light::{EmissionSample, SceneSphere};
 use crate::material::Shading;
 use crate::math::color::Rgb;
 use crate::math::{offset_origin, Ray, Vec3};
@@ -102,6 +103,32 @@ pub(super) fn light_subpath(
         return;
     }
     let infinite = light.is_infinite();
+    let (y0, origin) = light_vertex(index, pmf, &es, infinite);
+    path.push(y0);
+    let mut ray = Ray::new(origin, es.dir);
+    ray.time = time;
+    let beta = emitted_throughput(scene, &es, pmf, infinite, time, sampler);
+    if beta.is_black() {
+        return;
+    }
+    let walk = Walk {
+        ray,
+        beta,
+        pdf_dir: es.pdf_dir,
+        from_infinity: infinite.then_some(es.pdf_pos),
+        limit: (scene.settings.max_depth as usize)
+            .saturating_add(1)
+            .min(max_vertices),
+        mode: Mode::Light,
+        beta_start: beta.max_channel(),
+    };
+    let mut ignored = Rgb::BLACK;
+    random_walk(scene, sur, walk, sampler, path, &mut ignored);
+}
+
+/// The light subpath's first vertex y₀ (on the light, or on the scene's
+/// disk for light from infinity) and the origin of its first ray.
+fn light_vertex(index: usize, pmf: f32, es: &EmissionSample, infinite: bool) -> (Vertex, Vec3) {
     let (kind, origin_pdf, origin) = if infinite {
         let kind = Kind::Infinite {
             light: index as u32,
@@ -124,9 +151,20 @@ pub(super) fn light_subpath(
     };
     let mut y0 = Vertex::new(kind, es.p, es.n, es.radiance / origin_pdf);
     y0.pdf_fwd = origin_pdf;
-    path.push(y0);
-    let mut ray = Ray::new(origin, es.dir);
-    ray.time = time;
+    (y0, origin)
+}
+
+/// The throughput of the light subpath's first ray: emitted radiance × cos
+/// over the pick, position and direction densities (times the media's
+/// transmittance beyond the disk for light from infinity).
+fn emitted_throughput(
+    scene: &Scene,
+    es: &EmissionSample,
+    pmf: f32,
+    infinite: bool,
+    time: f32,
+    sampler: &mut Sampler,
+) -> Rgb {
     let cos = if es.n == Vec3::ZERO {
         1.0
     } else {
@@ -139,22 +177,7 @@ pub(super) fn light_subpath(
         behind.time = time;
         beta *= scene.transmittance(&behind, f32::INFINITY, sampler);
     }
-    if beta.is_black() {
-        return;
-    }
-    let walk = Walk {
-        ray,
-        beta,
-        pdf_dir: es.pdf_dir,
-        from_infinity: infinite.then_some(es.pdf_pos),
-        limit: (scene.settings.max_depth as usize)
-            .saturating_add(1)
-            .min(max_vertices),
-        mode: Mode::Light,
-        beta_start: beta.max_channel(),
-    };
-    let mut ignored = Rgb::BLACK;
-    random_walk(scene, sur, walk, sampler, path, &mut ignored);
+    beta
 }
 
 /// Extends `path` vertex by vertex until the walk leaves the scene, is
