@@ -35,19 +35,7 @@ pub(crate) fn build_height_fog(desc: &MediumDesc, field: &str, check: &Check) ->
                 "give either visibility or sigma_t (or sigma_a/sigma_s), not both",
             ))
         }
-        Some(v) => {
-            let v = check.positive(&f("visibility"), *v)?;
-            let t = sigma_t_from_visibility(v);
-            let exact = 50f64.ln() / v as f64;
-            super::overflow::fits(check, &f("visibility"), t, exact, || {
-                format!(
-                    "the extinction ln 50 / visibility {}",
-                    super::overflow::num(v)
-                )
-            })?;
-            let t = Color([t; 3]);
-            coefficients(None, None, Some(t), *albedo, field, check)?
-        }
+        Some(v) => visibility_coefficients(*v, *albedo, field, check)?,
         None if !explicit => {
             return Err(check.error(
                 field,
@@ -72,6 +60,26 @@ pub(crate) fn build_height_fog(desc: &MediumDesc, field: &str, check: &Check) ->
         height: check.finite(&f("height"), *height)?,
         scale_height: check.positive(&f("scale_height"), *scale_height)?,
     }))
+}
+
+/// (σa, σs) of a fog whose `visibility` (and `albedo`) set its extinction.
+fn visibility_coefficients(
+    visibility: f32,
+    albedo: Option<Color>,
+    field: &str,
+    check: &Check,
+) -> Result<(Rgb, Rgb)> {
+    let key = format!("{field}.visibility");
+    let v = check.positive(&key, visibility)?;
+    let t = sigma_t_from_visibility(v);
+    let exact = 50f64.ln() / v as f64;
+    super::overflow::fits(check, &key, t, exact, || {
+        format!(
+            "the extinction ln 50 / visibility {}",
+            super::overflow::num(v)
+        )
+    })?;
+    coefficients(None, None, Some(Color([t; 3])), albedo, field, check)
 }
 
 /// Refuses a height fog infinitely dense where the camera is: its density

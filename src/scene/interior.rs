@@ -68,56 +68,16 @@ pub(crate) fn build_interior(
     };
     let f = format!("{field}.interior");
     let mask = build_mask(shape, prims, field, check, base)?;
-    if let ShapeMask::Mesh(mesh) = &mask {
-        // A dielectric's normal side is outside: an inward-wound glass would be inside out.
-        if boundary(shape, field, check)? == Boundary::Dielectric && !mesh.is_outward() {
-            return Err(check.error(
-                &format!("{field}.file"),
-                "the mesh is wound inward (clockwise seen from outside); a dielectric boundary \
-                 needs outward normals: reverse the order of each face's vertices",
-            ));
-        }
-    }
+    check_winding(shape, &mask, field, check)?;
     let content = match desc {
         MediumDesc::Homogeneous {
-            sigma_a,
-            sigma_s,
-            sigma_t,
-            albedo,
-            emission,
-            phase,
             bounds,
             global,
             transform,
+            ..
         } => {
-            for (key, set) in [
-                ("bounds", bounds.is_some()),
-                ("global", *global),
-                ("transform", transform.is_some()),
-            ] {
-                if set {
-                    return Err(check.error(
-                        &format!("{f}.{key}"),
-                        "an interior medium is bounded and placed by its shape; remove this key",
-                    ));
-                }
-            }
-            let (sigma_a, sigma_s) =
-                coefficients(*sigma_a, *sigma_s, *sigma_t, *albedo, &f, check)?;
-            let emission = match emission {
-                Some(e) => check.color(&format!("{f}.emission"), *e)?,
-                None => Rgb::BLACK,
-            };
-            if !emission.is_black() {
-                warn_inert_emission(&f, sigma_a, check);
-            }
-            let medium = HomogeneousMedium {
-                sigma_a,
-                sigma_s,
-                emission,
-                phase: build_phase(phase.as_ref(), &f, check)?,
-                region: Region::Everywhere,
-            };
+            reject_placement_keys(bounds.is_some(), *global, transform.is_some(), &f, check)?;
+            let medium = homogeneous_interior(desc, &f, check)?;
             // A sphere or box is a region already: the plain bounded medium, no mask needed.
             if let ShapeMask::Region(region) = mask {
                 return Ok(Some(Medium::Homogeneous(HomogeneousMedium {
@@ -142,6 +102,75 @@ pub(crate) fn build_interior(
         content,
         mask,
     }))))
+}
+
+/// Refuses an inward-wound mesh behind a dielectric boundary.
+fn check_winding(shape: &ShapeDesc, mask: &ShapeMask, field: &str, check: &Check) -> Result<()> {
+    if let ShapeMask::Mesh(mesh) = mask {
+        // A dielectric's normal side is outside: an inward-wound glass would be inside out.
+        if boundary(shape, field, check)? == Boundary::Dielectric && !mesh.is_outward() {
+            return Err(check.error(
+                &format!("{field}.file"),
+                "the mesh is wound inward (clockwise seen from outside); a dielectric boundary \
+                 needs outward normals: reverse the order of each face's vertices",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses `bounds`, `global` and `transform` on an interior (`f`), which its shape sets.
+fn reject_placement_keys(
+    bounds: bool,
+    global: bool,
+    transform: bool,
+    f: &str,
+    check: &Check,
+) -> Result<()> {
+    for (key, set) in [
+        ("bounds", bounds),
+        ("global", global),
+        ("transform", transform),
+    ] {
+        if set {
+            return Err(check.error(
+                &format!("{f}.{key}"),
+                "an interior medium is bounded and placed by its shape; remove this key",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The coefficients, emission and phase of a homogeneous interior `desc` (at `f`), filling all space.
+fn homogeneous_interior(desc: &MediumDesc, f: &str, check: &Check) -> Result<HomogeneousMedium> {
+    let MediumDesc::Homogeneous {
+        sigma_a,
+        sigma_s,
+        sigma_t,
+        albedo,
+        emission,
+        phase,
+        ..
+    } = desc
+    else {
+        unreachable!("called on a homogeneous description only")
+    };
+    let (sigma_a, sigma_s) = coefficients(*sigma_a, *sigma_s, *sigma_t, *albedo, f, check)?;
+    let emission = match emission {
+        Some(e) => check.color(&format!("{f}.emission"), *e)?,
+        None => Rgb::BLACK,
+    };
+    if !emission.is_black() {
+        warn_inert_emission(f, sigma_a, check);
+    }
+    Ok(HomogeneousMedium {
+        sigma_a,
+        sigma_s,
+        emission,
+        phase: build_phase(phase.as_ref(), f, check)?,
+        region: Region::Everywhere,
+    })
 }
 
 /// The closed volume of a sphere, box or mesh shape.

@@ -276,30 +276,7 @@ fn retag(
                 retag(item, key, &format!("{path}[{i}]"))?;
             }
         }
-        toml::Value::Table(table) => {
-            for (child_key, child) in table.iter_mut() {
-                let child_path = if path.is_empty() {
-                    child_key.clone()
-                } else {
-                    format!("{path}.{child_key}")
-                };
-                retag(child, child_key, &child_path)?;
-            }
-            if TAGGED_KEYS.contains(&key) {
-                let name = match table.remove("type") {
-                    Some(toml::Value::String(name)) => name,
-                    Some(v) => {
-                        return Err((
-                            format!("{path}.type"),
-                            format!("expected a type name in quotes, got {}", toml_kind(&v)),
-                        ))
-                    }
-                    None => return Err((path.to_string(), "missing key `type`".into())),
-                };
-                let inner = std::mem::take(table);
-                table.insert(name, toml::Value::Table(inner));
-            }
-        }
+        toml::Value::Table(table) => retag_table(table, key, path)?,
         toml::Value::Datetime(d) => {
             // toml hands a date to serde as a table with a private key, which no message explains
             return Err((
@@ -321,6 +298,37 @@ fn retag(
             ));
         }
         _ => {}
+    }
+    Ok(())
+}
+
+/// Retags the children of `table` (at `path`), then `table` itself when `key` is a tagged key.
+fn retag_table(
+    table: &mut toml::map::Map<String, toml::Value>,
+    key: &str,
+    path: &str,
+) -> std::result::Result<(), (String, String)> {
+    for (child_key, child) in table.iter_mut() {
+        let child_path = if path.is_empty() {
+            child_key.clone()
+        } else {
+            format!("{path}.{child_key}")
+        };
+        retag(child, child_key, &child_path)?;
+    }
+    if TAGGED_KEYS.contains(&key) {
+        let name = match table.remove("type") {
+            Some(toml::Value::String(name)) => name,
+            Some(v) => {
+                return Err((
+                    format!("{path}.type"),
+                    format!("expected a type name in quotes, got {}", toml_kind(&v)),
+                ))
+            }
+            None => return Err((path.to_string(), "missing key `type`".into())),
+        };
+        let inner = std::mem::take(table);
+        table.insert(name, toml::Value::Table(inner));
     }
     Ok(())
 }
@@ -710,6 +718,7 @@ fn camera_placement(
     )
 }
 
+/// The light of one `[[light]]` entry.
 fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {
     let f = |name: &str| format!("{field}.{name}");
     Ok(match desc {
@@ -726,38 +735,18 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Res
             intensity,
             cone_angle,
             cone_falloff,
-        } => {
-            let position = check.vec3(&f("position"), *position)?;
-            let axis = (check.vec3(&f("look_at"), *look_at)? - position)
-                .try_normalize()
-                .ok_or_else(|| check.error(&f("look_at"), "equals the light position"))?;
-            let outer = check.range(&f("cone_angle"), *cone_angle, 0.0, 180.0, false)?;
-            // The default edge never exceeds a narrow cone: only a value the user wrote is checked.
-            let falloff = match cone_falloff {
-                Some(v) => check.range(&f("cone_falloff"), *v, 0.0, outer, true)?,
-                None => description::DEFAULT_CONE_FALLOFF.min(outer),
-            };
-            Light::Spot {
-                position,
-                axis,
-                intensity: check.color(&f("intensity"), *intensity)?,
-                cos_inner: (outer - falloff).to_radians().cos(),
-                cos_outer: outer.to_radians().cos(),
-            }
-        }
+        } => build_spot(
+            (*position, *look_at),
+            *intensity,
+            (*cone_angle, *cone_falloff),
+            field,
+            check,
+        )?,
         LightDesc::Sun {
             direction,
             irradiance,
             angular_radius,
-        } => {
-            let travel = check.direction(&f("direction"), *direction)?;
-            let radius = check.range(&f("angular_radius"), *angular_radius, 0.0, 90.0, true)?;
-            Light::Sun {
-                to_sun: -travel,
-                irradiance: check.color(&f("irradiance"), *irradiance)?,
-                cos_max: radius.to_radians().cos(),
-            }
-        }
+        } => build_sun(*direction, *irradiance, *angular_radius, field, check)?,
         LightDesc::Environment { radiance } => Light::Environment(Environment::Constant {
             radiance: check.color(&f("radiance"), *radiance)?,
         }),
@@ -783,6 +772,52 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Res
             ground: check.color(&f("ground"), *ground)?,
             up: check.direction(&f("up"), *up)?,
         }),
+    })
+}
+
+/// A spot light from its `(position, look_at)` and `(cone_angle, cone_falloff)` keys.
+fn build_spot(
+    (position, look_at): ([f32; 3], [f32; 3]),
+    intensity: description::Color,
+    (cone_angle, cone_falloff): (f32, Option<f32>),
+    field: &str,
+    check: &Check,
+) -> Result<Light> {
+    let f = |name: &str| format!("{field}.{name}");
+    let position = check.vec3(&f("position"), position)?;
+    let axis = (check.vec3(&f("look_at"), look_at)? - position)
+        .try_normalize()
+        .ok_or_else(|| check.error(&f("look_at"), "equals the light position"))?;
+    let outer = check.range(&f("cone_angle"), cone_angle, 0.0, 180.0, false)?;
+    // The default edge never exceeds a narrow cone: only a value the user wrote is checked.
+    let falloff = match cone_falloff {
+        Some(v) => check.range(&f("cone_falloff"), v, 0.0, outer, true)?,
+        None => description::DEFAULT_CONE_FALLOFF.min(outer),
+    };
+    Ok(Light::Spot {
+        position,
+        axis,
+        intensity: check.color(&f("intensity"), intensity)?,
+        cos_inner: (outer - falloff).to_radians().cos(),
+        cos_outer: outer.to_radians().cos(),
+    })
+}
+
+/// A sun light shining along `direction` from a disc of `angular_radius` degrees.
+fn build_sun(
+    direction: [f32; 3],
+    irradiance: description::Color,
+    angular_radius: f32,
+    field: &str,
+    check: &Check,
+) -> Result<Light> {
+    let f = |name: &str| format!("{field}.{name}");
+    let travel = check.direction(&f("direction"), direction)?;
+    let radius = check.range(&f("angular_radius"), angular_radius, 0.0, 90.0, true)?;
+    Ok(Light::Sun {
+        to_sun: -travel,
+        irradiance: check.color(&f("irradiance"), irradiance)?,
+        cos_max: radius.to_radians().cos(),
     })
 }
 

@@ -164,20 +164,7 @@ fn set(top: &mut toml::Table, o: &Override) -> Result<(), String> {
                     .entry(k.clone())
                     .or_insert_with(|| toml::Value::Table(toml::Table::new()));
                 walked = join(&walked, k);
-                let fits = match entry {
-                    toml::Value::Table(_) => !next_is_index,
-                    toml::Value::Array(_) => next_is_index,
-                    _ => false,
-                };
-                if !fits {
-                    let wanted = if next_is_index { "a list" } else { "a table" };
-                    return Err(format!("{walked} is {}, not {wanted}", kind(entry)));
-                }
-                match entry {
-                    toml::Value::Table(t) => TableOrArray::Table(t),
-                    toml::Value::Array(a) => TableOrArray::Array(a),
-                    _ => unreachable!("checked above"),
-                }
+                descend(entry, next_is_index, &walked)?
             }
             (TableOrArray::Array(a), Step::Index(n)) => {
                 let len = a.len();
@@ -209,6 +196,22 @@ fn set(top: &mut toml::Table, o: &Override) -> Result<(), String> {
         };
     }
     unreachable!("a key path has at least one step")
+}
+
+/// Steps into `entry` (at `walked`), which must be a list when the next step is an index, else a table.
+fn descend<'a>(
+    entry: &'a mut toml::Value,
+    next_is_index: bool,
+    walked: &str,
+) -> Result<TableOrArray<'a>, String> {
+    match (entry, next_is_index) {
+        (toml::Value::Table(t), false) => Ok(TableOrArray::Table(t)),
+        (toml::Value::Array(a), true) => Ok(TableOrArray::Array(a)),
+        (other, _) => {
+            let wanted = if next_is_index { "a list" } else { "a table" };
+            Err(format!("{walked} is {}, not {wanted}", kind(other)))
+        }
+    }
 }
 
 /// Where a key path walk stands.

@@ -4,7 +4,7 @@ use super::description::{ShapeDesc, ShapeType, TransformDesc};
 use super::files::{check_input, Format};
 use super::resolve;
 use super::validate::Check;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::geometry::Primitive;
 use crate::math::keyframes::Keyframes;
 use crate::math::{Affine3A, Frame, Vec2, Vec3};
@@ -73,83 +73,10 @@ pub(crate) fn build_shape(
     let (m, keys) =
         super::keyframes::build_placement(shape.transform.as_ref(), field, check)?.split();
     let center = check.vec3(&format!("{field}.center"), shape.center.unwrap_or([0.0; 3]))?;
-    let size = |n: usize| -> Result<Vec<f32>> {
-        let s = shape
-            .size
-            .as_ref()
-            .ok_or_else(|| check.error(&format!("{field}.size"), "missing"))?;
-        if s.len() != n {
-            return Err(check.error(&format!("{field}.size"), format!("must have {n} numbers")));
-        }
-        s.iter()
-            .enumerate()
-            .map(|(i, &v)| check.positive(&format!("{field}.size[{i}]"), v))
-            .collect()
-    };
-    let parallelogram = |c: Vec3, eu: Vec3, ev: Vec3| Primitive::Parallelogram {
-        corner: m.transform_point3(c - 0.5 * (eu + ev)),
-        edge_u: m.transform_vector3(eu),
-        edge_v: m.transform_vector3(ev),
-    };
     let primitives = match shape.kind {
-        ShapeType::Sphere => {
-            let radius = check.positive(
-                &format!("{field}.radius"),
-                required(shape.radius, field, "radius", check)?,
-            )?;
-            let (scale, _, _) = m.to_scale_rotation_translation();
-            if (scale.max_element() - scale.min_element()).abs() > 1e-5 * scale.max_element() {
-                return Err(check.error(
-                    &format!("{field}.transform.scale"),
-                    "a sphere needs a uniform scale",
-                ));
-            }
-            vec![Primitive::Sphere {
-                center: m.transform_point3(center),
-                radius: radius * scale.x,
-            }]
-        }
-        ShapeType::Quad => {
-            let normal = check.direction(
-                &format!("{field}.normal"),
-                required(shape.normal, field, "normal", check)?,
-            )?;
-            let s = size(2)?;
-            let u_dir = match shape.u_axis {
-                Some(u) => {
-                    let u = check.direction(&format!("{field}.u_axis"), u)?;
-                    (u - normal * u.dot(normal))
-                        .try_normalize()
-                        .ok_or_else(|| {
-                            check.error(&format!("{field}.u_axis"), "is parallel to the normal")
-                        })?
-                }
-                None => Frame::from_z(normal).x,
-            };
-            let v_dir = normal.cross(u_dir);
-            // edge_u × edge_v must point along the normal: u × (n × u) = n.
-            vec![parallelogram(center, u_dir * s[0], v_dir * s[1])]
-        }
-        ShapeType::Box => {
-            let s = size(3)?;
-            let h = Vec3::new(s[0], s[1], s[2]) * 0.5;
-            let mut faces = Vec::with_capacity(6);
-            for axis in 0..3 {
-                for sign in [-1.0f32, 1.0] {
-                    let mut n = Vec3::ZERO;
-                    n[axis] = sign;
-                    let mut eu = Vec3::ZERO;
-                    let mut ev = Vec3::ZERO;
-                    eu[(axis + 1) % 3] = 2.0 * h[(axis + 1) % 3];
-                    ev[(axis + 2) % 3] = 2.0 * h[(axis + 2) % 3];
-                    if sign < 0.0 {
-                        std::mem::swap(&mut eu, &mut ev);
-                    }
-                    faces.push(parallelogram(center + n * h[axis], eu, ev));
-                }
-            }
-            faces
-        }
+        ShapeType::Sphere => vec![sphere(shape, &m, center, field, check)?],
+        ShapeType::Quad => vec![quad(shape, &m, center, field, check)?],
+        ShapeType::Box => box_faces(shape, &m, center, field, check)?,
         ShapeType::Mesh => {
             let file = shape
                 .file
@@ -167,6 +94,112 @@ pub(crate) fn build_shape(
     })
 }
 
+/// The `n` positive numbers of `size`, each checked under its own index.
+fn sizes(shape: &ShapeDesc, n: usize, field: &str, check: &Check) -> Result<Vec<f32>> {
+    let s = shape
+        .size
+        .as_ref()
+        .ok_or_else(|| check.error(&format!("{field}.size"), "missing"))?;
+    if s.len() != n {
+        return Err(check.error(&format!("{field}.size"), format!("must have {n} numbers")));
+    }
+    s.iter()
+        .enumerate()
+        .map(|(i, &v)| check.positive(&format!("{field}.size[{i}]"), v))
+        .collect()
+}
+
+/// The world-space parallelogram centred on local `c` with local edges `eu`, `ev`.
+fn parallelogram(m: &Affine3A, c: Vec3, eu: Vec3, ev: Vec3) -> Primitive {
+    Primitive::Parallelogram {
+        corner: m.transform_point3(c - 0.5 * (eu + ev)),
+        edge_u: m.transform_vector3(eu),
+        edge_v: m.transform_vector3(ev),
+    }
+}
+
+/// A `type = "sphere"` shape; its transform must scale uniformly to stay a sphere.
+fn sphere(
+    shape: &ShapeDesc,
+    m: &Affine3A,
+    center: Vec3,
+    field: &str,
+    check: &Check,
+) -> Result<Primitive> {
+    let radius = check.positive(
+        &format!("{field}.radius"),
+        required(shape.radius, field, "radius", check)?,
+    )?;
+    let (scale, _, _) = m.to_scale_rotation_translation();
+    if (scale.max_element() - scale.min_element()).abs() > 1e-5 * scale.max_element() {
+        return Err(check.error(
+            &format!("{field}.transform.scale"),
+            "a sphere needs a uniform scale",
+        ));
+    }
+    Ok(Primitive::Sphere {
+        center: m.transform_point3(center),
+        radius: radius * scale.x,
+    })
+}
+
+/// A `type = "quad"` shape, its `u_axis` made perpendicular to its normal.
+fn quad(
+    shape: &ShapeDesc,
+    m: &Affine3A,
+    center: Vec3,
+    field: &str,
+    check: &Check,
+) -> Result<Primitive> {
+    let normal = check.direction(
+        &format!("{field}.normal"),
+        required(shape.normal, field, "normal", check)?,
+    )?;
+    let s = sizes(shape, 2, field, check)?;
+    let u_dir = match shape.u_axis {
+        Some(u) => {
+            let u = check.direction(&format!("{field}.u_axis"), u)?;
+            (u - normal * u.dot(normal))
+                .try_normalize()
+                .ok_or_else(|| {
+                    check.error(&format!("{field}.u_axis"), "is parallel to the normal")
+                })?
+        }
+        None => Frame::from_z(normal).x,
+    };
+    let v_dir = normal.cross(u_dir);
+    // edge_u × edge_v must point along the normal: u × (n × u) = n.
+    Ok(parallelogram(m, center, u_dir * s[0], v_dir * s[1]))
+}
+
+/// The six outward-facing faces of a `type = "box"` shape.
+fn box_faces(
+    shape: &ShapeDesc,
+    m: &Affine3A,
+    center: Vec3,
+    field: &str,
+    check: &Check,
+) -> Result<Vec<Primitive>> {
+    let s = sizes(shape, 3, field, check)?;
+    let h = Vec3::new(s[0], s[1], s[2]) * 0.5;
+    let mut faces = Vec::with_capacity(6);
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let mut n = Vec3::ZERO;
+            n[axis] = sign;
+            let mut eu = Vec3::ZERO;
+            let mut ev = Vec3::ZERO;
+            eu[(axis + 1) % 3] = 2.0 * h[(axis + 1) % 3];
+            ev[(axis + 2) % 3] = 2.0 * h[(axis + 2) % 3];
+            if sign < 0.0 {
+                std::mem::swap(&mut eu, &mut ev);
+            }
+            faces.push(parallelogram(m, center + n * h[axis], eu, ev));
+        }
+    }
+    Ok(faces)
+}
+
 /// Largest OBJ file read (a few tens of millions of triangles).
 const MAX_OBJ_BYTES: u64 = 2 << 30;
 
@@ -182,21 +215,47 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
     };
     let (models, _) =
         tobj::load_obj(path, &options).map_err(|e| bad(format!("cannot read OBJ: {e}")))?;
-    let normal_matrix = m.matrix3.inverse().transpose();
-    let mut prims = Vec::new();
-    let mut texcoords = Vec::new();
+    let mut out = ObjTriangles {
+        prims: Vec::new(),
+        texcoords: Vec::new(),
+        normal_matrix: m.matrix3.inverse().transpose(),
+    };
     let mut all_have_uv = true;
     for model in &models {
+        all_have_uv &= out.append_model(model, m, &bad)?;
+    }
+    if out.prims.is_empty() {
+        return Err(bad(
+            "holds no triangles (no face `f` with 3 or more vertices): is it a Wavefront OBJ file?"
+                .into(),
+        ));
+    }
+    Ok(BuiltShape {
+        primitives: out.prims,
+        texcoords: all_have_uv.then_some(out.texcoords),
+        keys: None,
+    })
+}
+
+/// The triangles gathered from the models of one OBJ file so far.
+struct ObjTriangles {
+    prims: Vec<Primitive>,
+    /// One entry per triangle, barycentric for models without `vt` lines.
+    texcoords: Vec<[Vec2; 3]>,
+    /// Carries normals to world space (inverse transpose of `m`).
+    normal_matrix: glam::Mat3A,
+}
+
+impl ObjTriangles {
+    /// Adds the non-degenerate triangles of `model`; returns whether it has texture coordinates.
+    fn append_model(
+        &mut self,
+        model: &tobj::Model,
+        m: &Affine3A,
+        bad: &impl Fn(String) -> Error,
+    ) -> Result<bool> {
         let mesh = &model.mesh;
         let has_uv = !mesh.texcoords.is_empty();
-        all_have_uv &= has_uv;
-        let uv = |i: u32| -> Option<Vec2> {
-            let k = 2 * i as usize;
-            Some(Vec2::new(
-                *mesh.texcoords.get(k)?,
-                *mesh.texcoords.get(k + 1)?,
-            ))
-        };
         let vertex = |i: u32| -> Option<Vec3> {
             let k = 3 * i as usize;
             let p = Vec3::new(
@@ -209,7 +268,7 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
         let normal = |i: u32| -> Vec3 {
             let k = 3 * i as usize;
             match mesh.normals.get(k..k + 3) {
-                Some(n) => (normal_matrix * Vec3::new(n[0], n[1], n[2])).normalize_or_zero(),
+                Some(n) => (self.normal_matrix * Vec3::new(n[0], n[1], n[2])).normalize_or_zero(),
                 None => Vec3::ZERO,
             }
         };
@@ -226,39 +285,41 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
             if (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0 {
                 continue;
             }
-            prims.push(Primitive::Triangle {
-                p,
-                n: [normal(tri[0]), normal(tri[1]), normal(tri[2])],
-            });
-            if has_uv {
-                let t = [uv(tri[0]), uv(tri[1]), uv(tri[2])];
-                let [Some(a), Some(b), Some(c)] = t else {
-                    return Err(bad(format!(
-                        "model {:?}: texture coordinate index out of range",
-                        model.name
-                    )));
-                };
-                if !(a.is_finite() && b.is_finite() && c.is_finite()) {
-                    return Err(bad(format!(
-                        "model {:?}: non-finite texture coordinate",
-                        model.name
-                    )));
-                }
-                texcoords.push([a, b, c]);
+            let n = [normal(tri[0]), normal(tri[1]), normal(tri[2])];
+            self.prims.push(Primitive::Triangle { p, n });
+            let uv = if has_uv {
+                triangle_uv(model, tri, bad)?
             } else {
-                texcoords.push(crate::geometry::BARYCENTRIC_UV);
-            }
+                crate::geometry::BARYCENTRIC_UV
+            };
+            self.texcoords.push(uv);
         }
+        Ok(has_uv)
     }
-    if prims.is_empty() {
-        return Err(bad(
-            "holds no triangles (no face `f` with 3 or more vertices): is it a Wavefront OBJ file?"
-                .into(),
-        ));
+}
+
+/// The checked `vt` coordinates of the corners `tri` of a model that has them.
+fn triangle_uv(
+    model: &tobj::Model,
+    tri: &[u32],
+    bad: &impl Fn(String) -> Error,
+) -> Result<[Vec2; 3]> {
+    let texcoords = &model.mesh.texcoords;
+    let uv = |i: u32| -> Option<Vec2> {
+        let k = 2 * i as usize;
+        Some(Vec2::new(*texcoords.get(k)?, *texcoords.get(k + 1)?))
+    };
+    let [Some(a), Some(b), Some(c)] = [uv(tri[0]), uv(tri[1]), uv(tri[2])] else {
+        return Err(bad(format!(
+            "model {:?}: texture coordinate index out of range",
+            model.name
+        )));
+    };
+    if !(a.is_finite() && b.is_finite() && c.is_finite()) {
+        return Err(bad(format!(
+            "model {:?}: non-finite texture coordinate",
+            model.name
+        )));
     }
-    Ok(BuiltShape {
-        primitives: prims,
-        texcoords: all_have_uv.then_some(texcoords),
-        keys: None,
-    })
+    Ok([a, b, c])
 }

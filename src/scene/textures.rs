@@ -72,18 +72,7 @@ pub(super) fn build(
         None => Rgb::WHITE,
     };
     let image = image(check, field, desc, base, cache)?;
-    let texels = (0..image.height()).flat_map(|j| (0..image.width()).map(move |i| (i, j)));
-    let brightest = super::overflow::brightest(texels.map(|(i, j)| image.texel(i, j)));
-    let scale_field = match desc.scale {
-        Some(_) => f("scale"),
-        None => f("file"),
-    };
-    super::overflow::product(
-        check,
-        &scale_field,
-        (brightest, "the brightest texel"),
-        (scale, "scale"),
-    )?;
+    check_scaled_overflow(check, field, desc, &image, scale)?;
     if range == Range::Albedo {
         check_albedo_texels(check, &f("file"), &image, scale, desc)?;
     }
@@ -160,16 +149,7 @@ fn image(
         .as_ref()
         .ok_or_else(|| check.error(&file_field, "missing"))?;
     let path = resolve(base, file);
-    let wrap = match desc.wrap.as_deref() {
-        None | Some("repeat") => Wrap::Repeat,
-        Some("clamp") => Wrap::Clamp,
-        Some(other) => {
-            return Err(check.error(
-                &format!("{field}.wrap"),
-                format!("unknown wrap mode `{other}`, expected \"repeat\" or \"clamp\""),
-            ))
-        }
-    };
+    let wrap = wrap_mode(check, field, desc)?;
     // what the path is comes first: `/dev/zero` is a device whatever its name
     if let Some(problem) = crate::error::input_file_problem(&path, MAX_TEXTURE_BYTES) {
         return Err(check.error(
@@ -177,33 +157,8 @@ fn image(
             format!("cannot read texture {}: {problem}", path.display()),
         ));
     }
-    let exr = match path.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("exr") => true,
-        Some(e) if e.eq_ignore_ascii_case("png") => false,
-        _ => {
-            return Err(check.error(
-                &file_field,
-                format!("texture {} is not a .png or .exr file", path.display()),
-            ))
-        }
-    };
-    let srgb = match (desc.color_space.as_deref(), exr) {
-        (None, exr) => !exr,
-        (Some("linear"), _) => false,
-        (Some("srgb"), false) => true,
-        (Some("srgb"), true) => {
-            return Err(check.error(
-                &format!("{field}.color_space"),
-                "EXR files hold linear values; color_space = \"srgb\" applies to PNG only",
-            ))
-        }
-        (Some(other), _) => {
-            return Err(check.error(
-                &format!("{field}.color_space"),
-                format!("unknown colour space `{other}`, expected \"srgb\" or \"linear\""),
-            ))
-        }
-    };
+    let exr = is_exr(check, &file_field, &path)?;
+    let srgb = is_srgb(check, field, desc, exr)?;
     let key = (path.clone(), wrap, srgb);
     if let Some((_, image)) = cache.images.iter().find(|(k, _)| *k == key) {
         return Ok(image.clone());
@@ -235,6 +190,69 @@ fn image(
     );
     cache.images.push((key, image.clone()));
     Ok(image)
+}
+
+/// Refuses a `scale` that would overflow single precision on the brightest texel of `image`.
+fn check_scaled_overflow(
+    check: &Check,
+    field: &str,
+    desc: &TextureDesc,
+    image: &Image,
+    scale: Rgb,
+) -> Result<()> {
+    let texels = (0..image.height()).flat_map(|j| (0..image.width()).map(move |i| (i, j)));
+    let brightest = super::overflow::brightest(texels.map(|(i, j)| image.texel(i, j)));
+    let scale_field = match desc.scale {
+        Some(_) => format!("{field}.scale"),
+        None => format!("{field}.file"),
+    };
+    super::overflow::product(
+        check,
+        &scale_field,
+        (brightest, "the brightest texel"),
+        (scale, "scale"),
+    )
+}
+
+/// Whether the texture at `path` is EXR (else PNG), by its extension; other files are refused.
+fn is_exr(check: &Check, file_field: &str, path: &Path) -> Result<bool> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case("exr") => Ok(true),
+        Some(e) if e.eq_ignore_ascii_case("png") => Ok(false),
+        _ => Err(check.error(
+            file_field,
+            format!("texture {} is not a .png or .exr file", path.display()),
+        )),
+    }
+}
+
+/// The `wrap` mode of an image texture (repeat when absent).
+fn wrap_mode(check: &Check, field: &str, desc: &TextureDesc) -> Result<Wrap> {
+    match desc.wrap.as_deref() {
+        None | Some("repeat") => Ok(Wrap::Repeat),
+        Some("clamp") => Ok(Wrap::Clamp),
+        Some(other) => Err(check.error(
+            &format!("{field}.wrap"),
+            format!("unknown wrap mode `{other}`, expected \"repeat\" or \"clamp\""),
+        )),
+    }
+}
+
+/// Whether the texels are sRGB-encoded: `color_space`, else PNG yes and EXR no.
+fn is_srgb(check: &Check, field: &str, desc: &TextureDesc, exr: bool) -> Result<bool> {
+    match (desc.color_space.as_deref(), exr) {
+        (None, exr) => Ok(!exr),
+        (Some("linear"), _) => Ok(false),
+        (Some("srgb"), false) => Ok(true),
+        (Some("srgb"), true) => Err(check.error(
+            &format!("{field}.color_space"),
+            "EXR files hold linear values; color_space = \"srgb\" applies to PNG only",
+        )),
+        (Some(other), _) => Err(check.error(
+            &format!("{field}.color_space"),
+            format!("unknown colour space `{other}`, expected \"srgb\" or \"linear\""),
+        )),
+    }
 }
 
 /// Refuses an image with a negative or non-finite texel, naming the first one.

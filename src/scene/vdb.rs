@@ -31,7 +31,7 @@ use super::description::VdbDesc;
 use super::files::{check_input, Format};
 use super::overflow;
 use super::validate::Check;
-use super::vdb_emission::build_emission;
+use super::vdb_emission::{build_emission, Brightest};
 use super::vdb_grids::{check_finite, check_values, load};
 use crate::error::Result;
 use crate::math::color::Rgb;
@@ -58,6 +58,54 @@ pub(crate) fn build_vdb_medium(
         Format::Vdb,
         MAX_VDB_BYTES,
     )?;
+    let scales = build_scales(desc, field, check)?;
+    let motion = build_motion(desc, &path, field, check, timing)?;
+    let density = load(&path, &desc.grid, (&f("file"), &f("grid")), check)?;
+    overflow::product(
+        check,
+        &f("density_scale"),
+        (Rgb::splat(scales.density_scale), "density_scale"),
+        (scales.sigma_t_scale, "sigma_t_scale"),
+    )?;
+    let peak = scales.density_scale * scales.sigma_t_scale.max_channel();
+    let census = check_values(
+        &density,
+        (&f("grid"), &f("density_scale")),
+        peak,
+        true,
+        check,
+    )?;
+    let (emission, brightest) = build_emission(desc, &path, field, check)?;
+    check_source_term(brightest, &scales, census.max_finite, field, check)?;
+    // Moving: the grid is built in the file's frame, placed per time.
+    let (to_world, keys) =
+        super::keyframes::build_placement(desc.transform.as_ref(), field, check)?.split();
+    let params = GridMediumParams {
+        to_world,
+        density_scale: scales.density_scale,
+        sigma_t_scale: scales.sigma_t_scale,
+        albedo: scales.albedo,
+        phase: build_phase(desc.phase.as_ref(), field, check)?,
+        emission,
+        majorant: scales.majorant,
+        cell_size: None,
+    };
+    let medium = GridMedium::try_new_moving(density, params, motion)
+        .map_err(|e| majorant_error(desc, field, check, timing, &e))?;
+    Ok(Medium::Grid(Arc::new(medium)).moved_by(keys))
+}
+
+/// The checked scale, albedo and majorant keys of a `type = "vdb"` entry.
+struct VdbScales {
+    density_scale: f32,
+    sigma_t_scale: Rgb,
+    albedo: Rgb,
+    majorant: MajorantMode,
+}
+
+/// Reads `density_scale`, `sigma_t_scale`, `albedo` and `majorant` (defaults when absent).
+fn build_scales(desc: &VdbDesc, field: &str, check: &Check) -> Result<VdbScales> {
+    let f = |name: &str| format!("{field}.{name}");
     let density_scale = check.finite(&f("density_scale"), desc.density_scale)?;
     if density_scale < 0.0 {
         return Err(check.error(&f("density_scale"), "must not be negative"));
@@ -80,54 +128,36 @@ pub(crate) fn build_vdb_medium(
             ))
         }
     };
-    let motion = build_motion(desc, &path, field, check, timing)?;
-    let density = load(&path, &desc.grid, (&f("file"), &f("grid")), check)?;
-    overflow::product(
-        check,
-        &f("density_scale"),
-        (Rgb::splat(density_scale), "density_scale"),
-        (sigma_t_scale, "sigma_t_scale"),
-    )?;
-    let peak = density_scale * sigma_t_scale.max_channel();
-    let census = check_values(
-        &density,
-        (&f("grid"), &f("density_scale")),
-        peak,
-        true,
-        check,
-    )?;
-    let (emission, brightest) = build_emission(desc, &path, field, check)?;
-    if let Some((le, key)) = brightest {
-        // the densest voxel's σa times the brightest Le bounds the source term σa·Le
-        let sigma_a = (Rgb::WHITE - albedo) * sigma_t_scale * (census.max_finite * density_scale);
-        overflow::product(
-            check,
-            &key,
-            (sigma_a, "the densest voxel's sigma_a"),
-            (le, "the brightest emission"),
-        )?;
-        super::coefficients::warn_inert_emission(
-            field,
-            (Rgb::WHITE - albedo) * sigma_t_scale,
-            check,
-        );
-    }
-    // Moving: the grid is built in the file's frame, placed per time.
-    let (to_world, keys) =
-        super::keyframes::build_placement(desc.transform.as_ref(), field, check)?.split();
-    let params = GridMediumParams {
-        to_world,
+    Ok(VdbScales {
         density_scale,
         sigma_t_scale,
         albedo,
-        phase: build_phase(desc.phase.as_ref(), field, check)?,
-        emission,
         majorant,
-        cell_size: None,
+    })
+}
+
+/// Refuses emission whose source term σa·Le could overflow, and warns when σa is zero.
+fn check_source_term(
+    brightest: Brightest,
+    scales: &VdbScales,
+    max_density: f32,
+    field: &str,
+    check: &Check,
+) -> Result<()> {
+    let Some((le, key)) = brightest else {
+        return Ok(());
     };
-    let medium = GridMedium::try_new_moving(density, params, motion)
-        .map_err(|e| majorant_error(desc, field, check, timing, &e))?;
-    Ok(Medium::Grid(Arc::new(medium)).moved_by(keys))
+    let absorbing = (Rgb::WHITE - scales.albedo) * scales.sigma_t_scale;
+    // the densest voxel's σa times the brightest Le bounds the source term σa·Le
+    let sigma_a = absorbing * (max_density * scales.density_scale);
+    overflow::product(
+        check,
+        &key,
+        (sigma_a, "the densest voxel's sigma_a"),
+        (le, "the brightest emission"),
+    )?;
+    super::coefficients::warn_inert_emission(field, absorbing, check);
+    Ok(())
 }
 
 /// The error for a majorant grid over the memory limit, on the key that

@@ -60,24 +60,7 @@ pub(super) fn build_emission(
         return blackbody(desc, name, emission_scale, path, field, check);
     }
     if let Some(name) = &desc.emission_grid {
-        let grid = load(path, name, (&f("file"), &f("emission_grid")), check)?;
-        let scale_field = match desc.emission_scale {
-            Some(_) => f("emission_scale"),
-            None => f("emission_grid"),
-        };
-        let census = check_values(
-            &grid,
-            (&f("emission_grid"), &scale_field),
-            emission_scale.max_channel(),
-            false,
-            check,
-        )?;
-        let brightest = emission_scale * census.max_finite.max(0.0);
-        let emission = GridEmission::Grid {
-            grid,
-            emission_scale,
-        };
-        return Ok((emission, Some((brightest, scale_field))));
+        return radiance_grid(desc, name, emission_scale, path, field, check);
     }
     if desc.emission_scale.is_some() {
         return Err(check.error(
@@ -86,6 +69,36 @@ pub(super) fn build_emission(
         ));
     }
     Ok((GridEmission::None, None))
+}
+
+/// Emission from the radiance values of grid `name`, times `emission_scale`.
+fn radiance_grid(
+    desc: &VdbDesc,
+    name: &str,
+    emission_scale: Rgb,
+    path: &Path,
+    field: &str,
+    check: &Check,
+) -> Result<(GridEmission, Brightest)> {
+    let f = |name: &str| format!("{field}.{name}");
+    let grid = load(path, name, (&f("file"), &f("emission_grid")), check)?;
+    let scale_field = match desc.emission_scale {
+        Some(_) => f("emission_scale"),
+        None => f("emission_grid"),
+    };
+    let census = check_values(
+        &grid,
+        (&f("emission_grid"), &scale_field),
+        emission_scale.max_channel(),
+        false,
+        check,
+    )?;
+    let brightest = emission_scale * census.max_finite.max(0.0);
+    let emission = GridEmission::Grid {
+        grid,
+        emission_scale,
+    };
+    Ok((emission, Some((brightest, scale_field))))
 }
 
 /// Blackbody emission from grid `name`: Le = emission_scale · chroma(T) · (T / 1000 K)⁴.
