@@ -34,6 +34,7 @@ use crate::integrator::estimator::Estimator;
 use crate::integrator::{li_gathering, Scene};
 use crate::light::SceneSphere;
 use crate::math::color::Rgb;
+use crate::sampling::chi2::ln_gamma;
 use crate::sampling::PixelStreams;
 use gather::Gatherer;
 use photons::PhotonMap;
@@ -83,29 +84,6 @@ pub fn pass_radius(r1: f32, alpha: f32, pass: u32) -> f32 {
     let (a, n) = (alpha as f64, pass as f64);
     let log_ratio = ln_gamma(n + 1.0 + a) - ln_gamma(1.0 + a) - ln_gamma(n + 2.0);
     r1 * (0.5 * log_ratio).exp() as f32
-}
-
-/// ln Γ(x) for x > 0 (Lanczos, g = 7, nine terms: about 15 digits).
-fn ln_gamma(x: f64) -> f64 {
-    const G: f64 = 7.0;
-    const C: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    let x = x - 1.0;
-    let t = x + G + 0.5;
-    let sum = C[1..]
-        .iter()
-        .enumerate()
-        .fold(C[0], |acc, (i, c)| acc + c / (x + i as f64 + 1.0));
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + sum.ln()
 }
 
 /// Stochastic progressive photon mapping as the driver's [`Estimator`].
