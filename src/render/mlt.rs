@@ -30,11 +30,8 @@ pub(super) fn render(
     cancel: &AtomicBool,
     on_pass: Option<PassObserver>,
 ) -> RenderOutput {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads.unwrap_or(0))
-        .build()
-        .expect("thread pool");
-    pool.install(|| Metropolis::new(scene, settings, options, cancel).run(on_pass))
+    super::thread_pool(options)
+        .install(|| Metropolis::new(scene, settings, options, cancel).run(on_pass))
 }
 
 /// A Metropolis render between passes.

@@ -241,6 +241,14 @@ struct Job<'a, E> {
     aovs: &'a [Aov],
 }
 
+/// The pool a render runs in: `options.threads` threads (0: one per core).
+fn thread_pool(options: &RenderOptions) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads.unwrap_or(0))
+        .build()
+        .expect("thread pool")
+}
+
 impl<E: Estimator> Job<'_, E> {
     /// Renders in a pool of `options.threads` threads.
     fn render(
@@ -249,10 +257,7 @@ impl<E: Estimator> Job<'_, E> {
         cancel: &AtomicBool,
         on_pass: Option<PassObserver>,
     ) -> RenderOutput {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(options.threads.unwrap_or(0))
-            .build()
-            .expect("thread pool");
+        let pool = thread_pool(options);
         let spp_total = options.spp;
         let options = RenderOptions {
             spp: self.part.samples.len(),
