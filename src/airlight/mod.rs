@@ -189,15 +189,6 @@ impl Layout {
 pub fn scene_text(options: &AirlightOptions) -> String {
     let layout = Layout::new(options.width);
     let sigma_t = 50f64.ln() / options.visibility as f64;
-    let camera = crate::camera::Camera::new(
-        crate::math::Vec3::ZERO,
-        -crate::math::Vec3::Z,
-        crate::math::Vec3::Y,
-        layout.fov,
-        layout.width,
-        layout.height,
-    )
-    .expect("fixed camera frame");
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -209,42 +200,57 @@ pub fn scene_text(options: &AirlightOptions) -> String {
         "[camera]\nposition = [0.0, 0.0, 0.0]\nlook_at = [0.0, 0.0, -1.0]\nfov = {}\nresolution = [{}, {}]\n",
         layout.fov, layout.width, layout.height
     );
+    s.push_str(&integrator_lights_and_air(options, sigma_t));
+    s.push_str(&target_shapes(options, &layout));
+    s
+}
+
+/// The `[integrator]`, lights and air of the demo: what differs between modes.
+fn integrator_lights_and_air(options: &AirlightOptions, sigma_t: f64) -> String {
+    match options.mode {
+        AirlightMode::Sky => format!(
+            "[integrator]\nspp = {}\nmax_depth = 8\nseed = {}\n\n\
+             [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, -0.25]\nirradiance = [3.0, 2.9, 2.7]\n\n\
+             [[light]]\ntype = \"sky\"\nzenith = [0.12, 0.2, 0.45]\nhorizon = [0.4, 0.45, 0.55]\nground = [0.08, 0.08, 0.07]\n\n\
+             # Haze in a layer 300 m deep above the eye, unbounded sideways.\n\
+             [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t:?}\nalbedo = 0.9\nphase = {{ type = \"hg\", g = 0.6 }}\n\
+             bounds = {{ type = \"box\", min = [-1.0e5, -1.0e4, -1.0e5], max = [1.0e5, 300.0, 1.0e5] }}\n\n",
+            options.spp, options.seed
+        ),
+        AirlightMode::SingleScattering => format!(
+            "[integrator]\nspp = {}\nmax_depth = 1\nmax_scatter_depth = 1\nseed = {}\n\n\
+             [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, 0.0]\nirradiance = {SS_IRRADIANCE}\nangular_radius = 0.0\n\n\
+             # Isotropic haze in a slab {SLAB_TOP} m deep above the eye, unbounded sideways.\n\
+             [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t:?}\nalbedo = {SS_ALBEDO}\n\
+             bounds = {{ type = \"box\", min = [-1.0e6, -1.0e4, -1.0e6], max = [1.0e6, {SLAB_TOP}, 1.0e6] }}\n\n",
+            options.spp, options.seed
+        ),
+        AirlightMode::EmissionAbsorption => format!(
+            "[integrator]\nspp = {}\nmax_depth = 0\nseed = {}\n\n\
+             # Absorbing, emitting air: L_air = emission exactly.\n\
+             [[medium]]\ntype = \"homogeneous\"\nsigma_a = {sigma_t:?}\nemission = {EA_EMISSION}\nglobal = true\n\n",
+            options.spp, options.seed
+        ),
+    }
+}
+
+/// The bright and dark target quads, one pair per distance, each filling
+/// the same angle from the eye.
+fn target_shapes(options: &AirlightOptions, layout: &Layout) -> String {
+    let camera = crate::camera::Camera::new(
+        crate::math::Vec3::ZERO,
+        -crate::math::Vec3::Z,
+        crate::math::Vec3::Y,
+        layout.fov,
+        layout.width,
+        layout.height,
+    )
+    .expect("fixed camera frame");
     let side_tan =
         layout.target_pixels() * 2.0 * (layout.fov.to_radians() * 0.5).tan() / layout.height as f32;
-    match options.mode {
-        AirlightMode::Sky => {
-            let _ = writeln!(
-                s,
-                "[integrator]\nspp = {}\nmax_depth = 8\nseed = {}\n\n\
-                 [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, -0.25]\nirradiance = [3.0, 2.9, 2.7]\n\n\
-                 [[light]]\ntype = \"sky\"\nzenith = [0.12, 0.2, 0.45]\nhorizon = [0.4, 0.45, 0.55]\nground = [0.08, 0.08, 0.07]\n\n\
-                 # Haze in a layer 300 m deep above the eye, unbounded sideways.\n\
-                 [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t:?}\nalbedo = 0.9\nphase = {{ type = \"hg\", g = 0.6 }}\n\
-                 bounds = {{ type = \"box\", min = [-1.0e5, -1.0e4, -1.0e5], max = [1.0e5, 300.0, 1.0e5] }}\n",
-                options.spp, options.seed
-            );
-        }
-        AirlightMode::SingleScattering => {
-            let _ = writeln!(
-                s,
-                "[integrator]\nspp = {}\nmax_depth = 1\nmax_scatter_depth = 1\nseed = {}\n\n\
-                 [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, 0.0]\nirradiance = {SS_IRRADIANCE}\nangular_radius = 0.0\n\n\
-                 # Isotropic haze in a slab {SLAB_TOP} m deep above the eye, unbounded sideways.\n\
-                 [[medium]]\ntype = \"homogeneous\"\nsigma_t = {sigma_t:?}\nalbedo = {SS_ALBEDO}\n\
-                 bounds = {{ type = \"box\", min = [-1.0e6, -1.0e4, -1.0e6], max = [1.0e6, {SLAB_TOP}, 1.0e6] }}\n",
-                options.spp, options.seed
-            );
-        }
-        AirlightMode::EmissionAbsorption => {
-            let _ = writeln!(
-                s,
-                "[integrator]\nspp = {}\nmax_depth = 0\nseed = {}\n\n\
-                 # Absorbing, emitting air: L_air = emission exactly.\n\
-                 [[medium]]\ntype = \"homogeneous\"\nsigma_a = {sigma_t:?}\nemission = {EA_EMISSION}\nglobal = true\n",
-                options.spp, options.seed
-            );
-        }
-    }
+    // One normal for all: equal sun and sky irradiance on every target.
+    let n = crate::math::Vec3::new(0.0, 0.3, 1.0).normalize();
+    let mut s = String::new();
     for (i, &d) in DISTANCES.iter().enumerate() {
         for k in 0..2 {
             let (x, y) = layout.target_center(i, k);
@@ -254,31 +260,34 @@ pub fn scene_text(options: &AirlightOptions) -> String {
                 Vec2::new(x.fract(), y.fract()),
             );
             let c = ray.direction * d;
-            // One normal for all: equal sun and sky irradiance on every target.
-            let n = crate::math::Vec3::new(0.0, 0.3, 1.0).normalize();
             let size = d * side_tan;
-            let material = match (options.mode, k) {
-                (AirlightMode::Sky | AirlightMode::SingleScattering, 0) => {
-                    "{ type = \"diffuse\", albedo = 0.8 }".to_string()
-                }
-                (AirlightMode::Sky | AirlightMode::SingleScattering, _) => {
-                    "{ type = \"diffuse\", albedo = 0.04 }".to_string()
-                }
-                (AirlightMode::EmissionAbsorption, _) => {
-                    let l = if k == 0 { EA_BRIGHT } else { EA_DARK };
-                    format!("{{ type = \"diffuse\", albedo = 0.0 }}\nemission = {l}")
-                }
-            };
             let _ = writeln!(
                 s,
                 "# {} target at {d} m\n[[shape]]\ntype = \"quad\"\ncenter = [{}, {}, {}]\nnormal = [{}, {}, {}]\n\
-                 u_axis = [1.0, 0.0, 0.0]\nsize = [{size}, {size}]\nmaterial = {material}\n",
+                 u_axis = [1.0, 0.0, 0.0]\nsize = [{size}, {size}]\nmaterial = {}\n",
                 if k == 0 { "bright" } else { "dark" },
-                c.x, c.y, c.z, n.x, n.y, n.z
+                c.x, c.y, c.z, n.x, n.y, n.z,
+                target_material(options.mode, k)
             );
         }
     }
     s
+}
+
+/// The material of the bright (k = 0) or dark target in a mode.
+fn target_material(mode: AirlightMode, k: usize) -> String {
+    match (mode, k) {
+        (AirlightMode::Sky | AirlightMode::SingleScattering, 0) => {
+            "{ type = \"diffuse\", albedo = 0.8 }".to_string()
+        }
+        (AirlightMode::Sky | AirlightMode::SingleScattering, _) => {
+            "{ type = \"diffuse\", albedo = 0.04 }".to_string()
+        }
+        (AirlightMode::EmissionAbsorption, _) => {
+            let l = if k == 0 { EA_BRIGHT } else { EA_DARK };
+            format!("{{ type = \"diffuse\", albedo = 0.0 }}\nemission = {l}")
+        }
+    }
 }
 
 /// Largest `--width`: the image is width × width/5 pixels, at most 32768 a side.
@@ -348,41 +357,13 @@ fn prepare_outputs(dir: &Path) -> Result<()> {
 
 /// Renders the demo, measures every target, fits σt and writes the outputs.
 pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
-    let argument = |a: &str, m: &str| Error::Argument {
-        argument: a.into(),
-        message: m.into(),
-    };
-    if !(options.visibility.is_finite() && options.visibility > 0.0) {
-        return Err(argument(
-            "--visibility",
-            "must be a positive number of metres",
-        ));
-    }
-    if options.spp == 0 {
-        return Err(argument("--spp", "must be at least 1"));
-    }
-    if options.width < 64 {
-        return Err(argument("--width", "must be at least 64 pixels"));
-    }
-    if options.width > MAX_WIDTH {
-        return Err(argument(
-            "--width",
-            &format!("must be at most {MAX_WIDTH} pixels (brume renders at most 32768 a side)"),
-        ));
-    }
-    // σt = ln 50 / V must be a finite single-precision number
-    if 50f64.ln() / options.visibility as f64 > f32::MAX as f64 {
-        return Err(argument(
-            "--visibility",
-            "must be at least 1.2e-38 metres (ln 50 / visibility must fit single precision)",
-        ));
-    }
+    validate(options)?;
     let (scene, text) = demo_scene(options)?;
     let (w, h) = (scene.camera.width(), scene.camera.height());
     let bytes = crate::render::peak_bytes(w, h) as u128;
     crate::error::limits::check(bytes).map_err(|refusal| {
         let needs = crate::error::limits::format_bytes(bytes);
-        argument(
+        argument_error(
             "--width",
             &format!("a {w}x{h} image needs {needs} of memory, {refusal}"),
         )
@@ -402,28 +383,76 @@ pub fn run(options: &AirlightOptions) -> Result<AirlightReport> {
     report.render_seconds = out.elapsed.as_secs_f64();
     report.table = table(&report);
     if let Some(dir) = &options.out {
-        let write_text = |name: &str, body: &str| -> Result<PathBuf> {
-            let path = dir.join(name);
-            image_io::write_text(&path, body)?;
-            Ok(path)
-        };
-        let exr = dir.join("airlight.exr");
-        image_io::write_exr(&exr, &out.image)?;
-        let png = dir.join("airlight.png");
-        image_io::write_png(&png, &out.image, 0.0)?;
-        let plot_path = dir.join("airlight_plot.png");
-        let pixels = plot::draw(&report).map_err(|message| Error::Output {
-            path: plot_path.clone(),
-            message,
-        })?;
-        image_io::write_png_srgb8(&plot_path, plot::WIDTH, plot::HEIGHT, &pixels)?;
-        report.files = vec![
-            exr,
-            png,
-            write_text("airlight.csv", &csv(&report))?,
-            plot_path,
-            write_text("airlight.toml", &text)?,
-        ];
+        report.files = write_outputs(dir, &out.image, &report, &text)?;
     }
     Ok(report)
+}
+
+/// An error under the command-line flag `flag`.
+fn argument_error(flag: &str, message: &str) -> Error {
+    Error::Argument {
+        argument: flag.into(),
+        message: message.into(),
+    }
+}
+
+/// The flags' values are ones the demo can be built from.
+fn validate(options: &AirlightOptions) -> Result<()> {
+    if !(options.visibility.is_finite() && options.visibility > 0.0) {
+        return Err(argument_error(
+            "--visibility",
+            "must be a positive number of metres",
+        ));
+    }
+    if options.spp == 0 {
+        return Err(argument_error("--spp", "must be at least 1"));
+    }
+    if options.width < 64 {
+        return Err(argument_error("--width", "must be at least 64 pixels"));
+    }
+    if options.width > MAX_WIDTH {
+        return Err(argument_error(
+            "--width",
+            &format!("must be at most {MAX_WIDTH} pixels (brume renders at most 32768 a side)"),
+        ));
+    }
+    // σt = ln 50 / V must be a finite single-precision number
+    if 50f64.ln() / options.visibility as f64 > f32::MAX as f64 {
+        return Err(argument_error(
+            "--visibility",
+            "must be at least 1.2e-38 metres (ln 50 / visibility must fit single precision)",
+        ));
+    }
+    Ok(())
+}
+
+/// Writes the five output files into `dir`; returns their paths.
+fn write_outputs(
+    dir: &Path,
+    image: &image_io::Image,
+    report: &AirlightReport,
+    text: &str,
+) -> Result<Vec<PathBuf>> {
+    let write_text = |name: &str, body: &str| -> Result<PathBuf> {
+        let path = dir.join(name);
+        image_io::write_text(&path, body)?;
+        Ok(path)
+    };
+    let exr = dir.join("airlight.exr");
+    image_io::write_exr(&exr, image)?;
+    let png = dir.join("airlight.png");
+    image_io::write_png(&png, image, 0.0)?;
+    let plot_path = dir.join("airlight_plot.png");
+    let pixels = plot::draw(report).map_err(|message| Error::Output {
+        path: plot_path.clone(),
+        message,
+    })?;
+    image_io::write_png_srgb8(&plot_path, plot::WIDTH, plot::HEIGHT, &pixels)?;
+    Ok(vec![
+        exr,
+        png,
+        write_text("airlight.csv", &csv(report))?,
+        plot_path,
+        write_text("airlight.toml", text)?,
+    ])
 }

@@ -205,17 +205,7 @@ impl Light {
             ),
             None => (a.p, a.n, 1.0),
         };
-        // A two-sided light picks its side with the first direction number, reused inside the side.
-        let (side, ux) = match (*two_sided, u_dir.x < 0.5) {
-            (false, _) => (1.0, u_dir.x),
-            (true, true) => (1.0, 2.0 * u_dir.x),
-            (true, false) => (-1.0, 2.0 * u_dir.x - 1.0),
-        };
-        let local =
-            warp::square_to_cosine_hemisphere(Vec2::new(ux.min(1.0 - f32::EPSILON), u_dir.y));
-        let dir = Frame::from_z(n * side).to_world(local).normalize();
-        let sides = if *two_sided { 0.5 } else { 1.0 };
-        let pdf_dir = warp::cosine_hemisphere_pdf(local) * sides;
+        let (dir, pdf_dir) = cosine_emission_direction(n, *two_sided, u_dir);
         (pdf_dir > 0.0 && !le.is_black()).then(|| EmissionSample {
             p,
             n,
@@ -277,4 +267,19 @@ impl Light {
             Light::Sun { .. } | Light::Environment(_) => self.escaped_pdf(-dir),
         }
     }
+}
+
+/// A direction cosine-weighted about the normal `n` (either side of a
+/// two-sided light) and its solid-angle density.
+fn cosine_emission_direction(n: Vec3, two_sided: bool, u_dir: Vec2) -> (Vec3, f32) {
+    // A two-sided light picks its side with the first direction number, reused inside the side.
+    let (side, ux) = match (two_sided, u_dir.x < 0.5) {
+        (false, _) => (1.0, u_dir.x),
+        (true, true) => (1.0, 2.0 * u_dir.x),
+        (true, false) => (-1.0, 2.0 * u_dir.x - 1.0),
+    };
+    let local = warp::square_to_cosine_hemisphere(Vec2::new(ux.min(1.0 - f32::EPSILON), u_dir.y));
+    let dir = Frame::from_z(n * side).to_world(local).normalize();
+    let sides = if two_sided { 0.5 } else { 1.0 };
+    (dir, warp::cosine_hemisphere_pdf(local) * sides)
 }

@@ -5,6 +5,7 @@
 use super::media::Surrogate;
 use super::positive;
 use super::vertex::{Kind, Vertex};
+use crate::geometry::SurfaceHit;
 use crate::integrator::tracking::{sample_free_flight, FreeFlight};
 use crate::integrator::Scene;
 
@@ -246,23 +247,7 @@ fn next_vertex(
             Vec3::ZERO,
             walk.beta,
         ),
-        (FreeFlight::Passed, Some(h)) => {
-            let material = scene.material_at(&h);
-            let mut v = Vertex::new(
-                Kind::Surface {
-                    material,
-                    ns: h.shading_normal,
-                    shape: h.shape,
-                    primitive: h.primitive,
-                    st: h.st,
-                },
-                h.p,
-                h.geometric_normal,
-                walk.beta,
-            );
-            v.delta = material.is_delta();
-            v
-        }
+        (FreeFlight::Passed, Some(h)) => surface_vertex(scene, &h, walk.beta),
         (FreeFlight::Passed, None) if walk.mode == Mode::Camera => Vertex::new(
             Kind::Escaped {
                 dir: walk.ray.direction,
@@ -275,6 +260,25 @@ fn next_vertex(
     };
     v.w_prev = w_prev;
     Some(v)
+}
+
+/// The vertex where a walk with throughput `beta` meets the surface at `h`.
+fn surface_vertex(scene: &Scene, h: &SurfaceHit, beta: Rgb) -> Vertex {
+    let material = scene.material_at(h);
+    let mut v = Vertex::new(
+        Kind::Surface {
+            material,
+            ns: h.shading_normal,
+            shape: h.shape,
+            primitive: h.primitive,
+            st: h.st,
+        },
+        h.p,
+        h.geometric_normal,
+        beta,
+    );
+    v.delta = material.is_delta();
+    v
 }
 
 /// Sets the density of `v` reached from `prev` along `dir`, sampled there
