@@ -3,6 +3,7 @@
 
 pub mod animation;
 mod build_shapes;
+mod camera;
 mod coefficients;
 pub mod description;
 mod envmap;
@@ -11,6 +12,7 @@ mod fog;
 pub mod inputs;
 mod interior;
 mod keyframes;
+mod lights;
 mod materials;
 mod media;
 mod messages;
@@ -26,15 +28,13 @@ pub mod vdb;
 mod vdb_emission;
 mod vdb_grids;
 
-use crate::camera::{Camera, FovAxis};
 use crate::error::{Error, Result};
-use crate::geometry::Geometry;
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
-use crate::light::{Environment, Light, LightPick};
-use crate::material::texture::Texture;
 use crate::sampling::SamplerKind;
-use description::{LightDesc, SceneDesc};
+use camera::build_camera;
+use description::SceneDesc;
+use lights::{build_lights, light_pick};
 use mlt_keys::{build_mlt, refuse_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
@@ -478,43 +478,6 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
     })
 }
 
-/// The area lights of emissive shapes (indexed by shape) followed by the
-/// `[[light]]` entries; at most one environment.
-fn build_lights(
-    desc: &SceneDesc,
-    check: &Check,
-    base: &Path,
-    geometry: &Geometry,
-    emissions: Vec<Option<Texture>>,
-) -> Result<(Vec<Light>, Vec<Option<u32>>)> {
-    let mut lights = Vec::new();
-    let mut shape_lights = vec![None; desc.shapes.len()];
-    for (i, (shape, emission)) in desc.shapes.iter().zip(emissions).enumerate() {
-        if let Some(radiance) = emission.filter(|e| e.max_channel() > 0.0) {
-            shape_lights[i] = Some(lights.len() as u32);
-            lights.push(match geometry.moving_shape(i as u32) {
-                Some(m) => Light::moving_area(i as u32, radiance, shape.two_sided, m.local()),
-                None => Light::area(i as u32, radiance, shape.two_sided, geometry),
-            });
-        }
-    }
-    let mut environments = 0;
-    for (i, light) in desc.lights.iter().enumerate() {
-        let built = build_light(light, &format!("light[{i}]"), check, base)?;
-        if matches!(built, Light::Environment(_)) {
-            environments += 1;
-            if environments > 1 {
-                return Err(check.error(
-                    &format!("light[{i}]"),
-                    "only one environment, sky or environment_map light is allowed",
-                ));
-            }
-        }
-        lights.push(built);
-    }
-    Ok((lights, shape_lights))
-}
-
 /// The `[[medium]]` entries, then the shapes' interiors (at most
 /// `MAX_OVERLAPPING_MEDIA` in all).
 fn build_media(
@@ -549,25 +512,6 @@ fn build_media(
     Ok(media)
 }
 
-/// The light pick by power, lights at infinity weighed over the scene's
-/// bounding sphere: the shapes, the camera and the point and spot lights.
-fn light_pick(lights: &[Light], geometry: &Geometry, camera: &Camera) -> LightPick {
-    let mut bounds = geometry.bounds().include(camera.view_at(0.0).position);
-    for light in lights {
-        if let Some(p) = light.point_position() {
-            bounds = bounds.include(p);
-        }
-    }
-    let radius = 0.5 * (bounds.max - bounds.min).length();
-    let radius = if radius.is_finite() && radius > 0.0 {
-        radius
-    } else {
-        1.0
-    };
-    let power: Vec<f32> = lights.iter().map(|l| l.power(radius)).collect();
-    LightPick::new(&power)
-}
-
 /// `[film] aovs`: known names, each once.
 fn build_aovs(names: &[String], check: &Check) -> Result<Vec<crate::integrator::aov::Aov>> {
     use crate::integrator::aov::Aov;
@@ -600,225 +544,6 @@ fn build_shutter(desc: &SceneDesc, check: &Check) -> Result<Option<[f32; 2]>> {
         return Err(check.error("camera.shutter", "open must not be after close"));
     }
     Ok(Some([open, close]))
-}
-
-fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
-    let c = &desc.camera;
-    let position = check.vec3("camera.position", c.position)?;
-    let look_at = check.vec3("camera.look_at", c.look_at)?;
-    let up = check.vec3("camera.up", c.up)?;
-    check.range("camera.fov", c.fov, 0.0, 180.0, false)?;
-    let [w, h] = c.resolution;
-    check.positive_int("camera.resolution[0]", w)?;
-    check.positive_int("camera.resolution[1]", h)?;
-    if w > 32768 || h > 32768 {
-        return Err(check.error("camera.resolution", "at most 32768 pixels a side"));
-    }
-    let (position, look_at, up, motion) = camera_placement(desc, position, look_at, up, check)?;
-    // In f64: a look_at 1e30 away overflows the f32 length and is not a parallel up.
-    let view = look_at.as_dvec3() - position.as_dvec3();
-    if view.length() == 0.0 {
-        return Err(check.error("camera.look_at", "equals camera.position"));
-    }
-    check_camera_range(position, check)?;
-    // A step the f32 position can resolve: 1 m, or a thousandth of a huge position.
-    let step = position.length().max(1.0) * 1e-3 + 1.0;
-    let aim = position + (view / view.length()).as_vec3() * step;
-    let camera = Camera::new(position, aim, up, c.fov, w, h)
-        .ok_or_else(|| check.error("camera.up", "is parallel to the viewing direction"))?;
-    let camera = match motion {
-        Some(keys) => camera.with_motion(keys),
-        None => camera,
-    };
-    let axis = match c.fov_axis.as_deref() {
-        None | Some("y" | "vertical") => FovAxis::Vertical,
-        Some("x" | "horizontal") => FovAxis::Horizontal,
-        Some(other) => {
-            return Err(check.error(
-                "camera.fov_axis",
-                format!("unknown axis `{other}`, expected \"y\" (vertical) or \"x\" (horizontal)"),
-            ))
-        }
-    };
-    let aperture = match c.aperture_radius {
-        Some(a) if check.finite("camera.aperture_radius", a)? < 0.0 => {
-            return Err(check.error(
-                "camera.aperture_radius",
-                format!("must be 0 or more, got {a}"),
-            ))
-        }
-        Some(a) => a,
-        None => 0.0,
-    };
-    let focus = match c.focus_distance {
-        Some(f) => check.positive("camera.focus_distance", f)?,
-        None => view.length() as f32,
-    };
-    Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
-}
-
-/// Refuses a camera position whose f32 ray arithmetic overflows (issue 11):
-/// |position|² must stay finite for the view frame and every ray it starts.
-fn check_camera_range(position: crate::math::Vec3, check: &Check) -> Result<()> {
-    if position.length_squared().is_finite() {
-        return Ok(());
-    }
-    Err(check.error(
-        "camera.position",
-        format!(
-            "is {:.3e} from the origin: too far for f32 ray arithmetic (at most about {:.1e}); \
-             move the scene toward the origin",
-            position.as_dvec3().length(),
-            f32::MAX.sqrt()
-        ),
-    ))
-}
-
-/// Position, look_at and up of the camera at rest, and the keyframes that move it.
-type CameraRest = (
-    crate::math::Vec3,
-    crate::math::Vec3,
-    crate::math::Vec3,
-    Option<crate::math::keyframes::Keyframes>,
-);
-
-/// `camera.transform`: a still placement moves position, look_at and up
-/// once; keyframes move the camera rigidly at each sample's time (no scale).
-fn camera_placement(
-    desc: &SceneDesc,
-    position: crate::math::Vec3,
-    look_at: crate::math::Vec3,
-    up: crate::math::Vec3,
-    check: &Check,
-) -> Result<CameraRest> {
-    let Some(t) = desc.camera.transform.as_ref() else {
-        return Ok((position, look_at, up, None));
-    };
-    let scales = std::iter::once(t.scale)
-        .chain(t.keyframes.iter().flatten().map(|k| k.scale))
-        .flatten();
-    for s in scales {
-        if s.0 != [1.0; 3] {
-            return Err(check.error(
-                "camera.transform",
-                "a camera moves rigidly: translate and rotate only, no scale",
-            ));
-        }
-    }
-    Ok(
-        match keyframes::build_placement(Some(t), "camera", check)? {
-            keyframes::Placed::Still(m) => (
-                m.transform_point3(position),
-                m.transform_point3(look_at),
-                m.transform_vector3(up),
-                None,
-            ),
-            keyframes::Placed::Moving(keys) => (position, look_at, up, Some(keys)),
-        },
-    )
-}
-
-/// The light of one `[[light]]` entry.
-fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {
-    let f = |name: &str| format!("{field}.{name}");
-    Ok(match desc {
-        LightDesc::Point {
-            position,
-            intensity,
-        } => Light::Point {
-            position: check.vec3(&f("position"), *position)?,
-            intensity: check.color(&f("intensity"), *intensity)?,
-        },
-        LightDesc::Spot {
-            position,
-            look_at,
-            intensity,
-            cone_angle,
-            cone_falloff,
-        } => build_spot(
-            (*position, *look_at),
-            *intensity,
-            (*cone_angle, *cone_falloff),
-            field,
-            check,
-        )?,
-        LightDesc::Sun {
-            direction,
-            irradiance,
-            angular_radius,
-        } => build_sun(*direction, *irradiance, *angular_radius, field, check)?,
-        LightDesc::Environment { radiance } => Light::Environment(Environment::Constant {
-            radiance: check.color(&f("radiance"), *radiance)?,
-        }),
-        LightDesc::EnvironmentMap {
-            file,
-            scale,
-            rotate,
-        } => Light::Environment(Environment::Map(std::sync::Arc::new(envmap::build(
-            check,
-            field,
-            &resolve(base, file),
-            *scale,
-            *rotate,
-        )?))),
-        LightDesc::Sky {
-            zenith,
-            horizon,
-            ground,
-            up,
-        } => Light::Environment(Environment::Sky {
-            zenith: check.color(&f("zenith"), *zenith)?,
-            horizon: check.color(&f("horizon"), *horizon)?,
-            ground: check.color(&f("ground"), *ground)?,
-            up: check.direction(&f("up"), *up)?,
-        }),
-    })
-}
-
-/// A spot light from its `(position, look_at)` and `(cone_angle, cone_falloff)` keys.
-fn build_spot(
-    (position, look_at): ([f32; 3], [f32; 3]),
-    intensity: description::Color,
-    (cone_angle, cone_falloff): (f32, Option<f32>),
-    field: &str,
-    check: &Check,
-) -> Result<Light> {
-    let f = |name: &str| format!("{field}.{name}");
-    let position = check.vec3(&f("position"), position)?;
-    let axis = (check.vec3(&f("look_at"), look_at)? - position)
-        .try_normalize()
-        .ok_or_else(|| check.error(&f("look_at"), "equals the light position"))?;
-    let outer = check.range(&f("cone_angle"), cone_angle, 0.0, 180.0, false)?;
-    // The default edge never exceeds a narrow cone: only a value the user wrote is checked.
-    let falloff = match cone_falloff {
-        Some(v) => check.range(&f("cone_falloff"), v, 0.0, outer, true)?,
-        None => description::DEFAULT_CONE_FALLOFF.min(outer),
-    };
-    Ok(Light::Spot {
-        position,
-        axis,
-        intensity: check.color(&f("intensity"), intensity)?,
-        cos_inner: (outer - falloff).to_radians().cos(),
-        cos_outer: outer.to_radians().cos(),
-    })
-}
-
-/// A sun light shining along `direction` from a disc of `angular_radius` degrees.
-fn build_sun(
-    direction: [f32; 3],
-    irradiance: description::Color,
-    angular_radius: f32,
-    field: &str,
-    check: &Check,
-) -> Result<Light> {
-    let f = |name: &str| format!("{field}.{name}");
-    let travel = check.direction(&f("direction"), direction)?;
-    let radius = check.range(&f("angular_radius"), angular_radius, 0.0, 90.0, true)?;
-    Ok(Light::Sun {
-        to_sun: -travel,
-        irradiance: check.color(&f("irradiance"), irradiance)?,
-        cos_max: radius.to_radians().cos(),
-    })
 }
 
 /// Resolves a path written in a scene file against the scene's folder.

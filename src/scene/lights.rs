@@ -1,0 +1,171 @@
+//! Lights of a scene: emissive shapes' area lights, the `[[light]]`
+//! entries and the pick of a light by power.
+
+use super::description::{self, LightDesc, SceneDesc};
+use super::validate::Check;
+use super::{envmap, resolve};
+use crate::camera::Camera;
+use crate::error::Result;
+use crate::geometry::Geometry;
+use crate::light::{Environment, Light, LightPick};
+use crate::material::texture::Texture;
+use std::path::Path;
+
+/// The area lights of emissive shapes (indexed by shape) followed by the
+/// `[[light]]` entries; at most one environment.
+pub(super) fn build_lights(
+    desc: &SceneDesc,
+    check: &Check,
+    base: &Path,
+    geometry: &Geometry,
+    emissions: Vec<Option<Texture>>,
+) -> Result<(Vec<Light>, Vec<Option<u32>>)> {
+    let mut lights = Vec::new();
+    let mut shape_lights = vec![None; desc.shapes.len()];
+    for (i, (shape, emission)) in desc.shapes.iter().zip(emissions).enumerate() {
+        if let Some(radiance) = emission.filter(|e| e.max_channel() > 0.0) {
+            shape_lights[i] = Some(lights.len() as u32);
+            lights.push(match geometry.moving_shape(i as u32) {
+                Some(m) => Light::moving_area(i as u32, radiance, shape.two_sided, m.local()),
+                None => Light::area(i as u32, radiance, shape.two_sided, geometry),
+            });
+        }
+    }
+    let mut environments = 0;
+    for (i, light) in desc.lights.iter().enumerate() {
+        let built = build_light(light, &format!("light[{i}]"), check, base)?;
+        if matches!(built, Light::Environment(_)) {
+            environments += 1;
+            if environments > 1 {
+                return Err(check.error(
+                    &format!("light[{i}]"),
+                    "only one environment, sky or environment_map light is allowed",
+                ));
+            }
+        }
+        lights.push(built);
+    }
+    Ok((lights, shape_lights))
+}
+
+/// The light pick by power, lights at infinity weighed over the scene's
+/// bounding sphere: the shapes, the camera and the point and spot lights.
+pub(super) fn light_pick(lights: &[Light], geometry: &Geometry, camera: &Camera) -> LightPick {
+    let mut bounds = geometry.bounds().include(camera.view_at(0.0).position);
+    for light in lights {
+        if let Some(p) = light.point_position() {
+            bounds = bounds.include(p);
+        }
+    }
+    let radius = 0.5 * (bounds.max - bounds.min).length();
+    let radius = if radius.is_finite() && radius > 0.0 {
+        radius
+    } else {
+        1.0
+    };
+    let power: Vec<f32> = lights.iter().map(|l| l.power(radius)).collect();
+    LightPick::new(&power)
+}
+
+/// The light of one `[[light]]` entry.
+fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Result<Light> {
+    let f = |name: &str| format!("{field}.{name}");
+    Ok(match desc {
+        LightDesc::Point {
+            position,
+            intensity,
+        } => Light::Point {
+            position: check.vec3(&f("position"), *position)?,
+            intensity: check.color(&f("intensity"), *intensity)?,
+        },
+        LightDesc::Spot {
+            position,
+            look_at,
+            intensity,
+            cone_angle,
+            cone_falloff,
+        } => build_spot(
+            (*position, *look_at),
+            *intensity,
+            (*cone_angle, *cone_falloff),
+            field,
+            check,
+        )?,
+        LightDesc::Sun {
+            direction,
+            irradiance,
+            angular_radius,
+        } => build_sun(*direction, *irradiance, *angular_radius, field, check)?,
+        LightDesc::Environment { radiance } => Light::Environment(Environment::Constant {
+            radiance: check.color(&f("radiance"), *radiance)?,
+        }),
+        LightDesc::EnvironmentMap {
+            file,
+            scale,
+            rotate,
+        } => Light::Environment(Environment::Map(std::sync::Arc::new(envmap::build(
+            check,
+            field,
+            &resolve(base, file),
+            *scale,
+            *rotate,
+        )?))),
+        LightDesc::Sky {
+            zenith,
+            horizon,
+            ground,
+            up,
+        } => Light::Environment(Environment::Sky {
+            zenith: check.color(&f("zenith"), *zenith)?,
+            horizon: check.color(&f("horizon"), *horizon)?,
+            ground: check.color(&f("ground"), *ground)?,
+            up: check.direction(&f("up"), *up)?,
+        }),
+    })
+}
+
+/// A spot light from its `(position, look_at)` and `(cone_angle, cone_falloff)` keys.
+fn build_spot(
+    (position, look_at): ([f32; 3], [f32; 3]),
+    intensity: description::Color,
+    (cone_angle, cone_falloff): (f32, Option<f32>),
+    field: &str,
+    check: &Check,
+) -> Result<Light> {
+    let f = |name: &str| format!("{field}.{name}");
+    let position = check.vec3(&f("position"), position)?;
+    let axis = (check.vec3(&f("look_at"), look_at)? - position)
+        .try_normalize()
+        .ok_or_else(|| check.error(&f("look_at"), "equals the light position"))?;
+    let outer = check.range(&f("cone_angle"), cone_angle, 0.0, 180.0, false)?;
+    // The default edge never exceeds a narrow cone: only a value the user wrote is checked.
+    let falloff = match cone_falloff {
+        Some(v) => check.range(&f("cone_falloff"), v, 0.0, outer, true)?,
+        None => description::DEFAULT_CONE_FALLOFF.min(outer),
+    };
+    Ok(Light::Spot {
+        position,
+        axis,
+        intensity: check.color(&f("intensity"), intensity)?,
+        cos_inner: (outer - falloff).to_radians().cos(),
+        cos_outer: outer.to_radians().cos(),
+    })
+}
+
+/// A sun light shining along `direction` from a disc of `angular_radius` degrees.
+fn build_sun(
+    direction: [f32; 3],
+    irradiance: description::Color,
+    angular_radius: f32,
+    field: &str,
+    check: &Check,
+) -> Result<Light> {
+    let f = |name: &str| format!("{field}.{name}");
+    let travel = check.direction(&f("direction"), direction)?;
+    let radius = check.range(&f("angular_radius"), angular_radius, 0.0, 90.0, true)?;
+    Ok(Light::Sun {
+        to_sun: -travel,
+        irradiance: check.color(&f("irradiance"), irradiance)?,
+        cos_max: radius.to_radians().cos(),
+    })
+}
