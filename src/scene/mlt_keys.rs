@@ -49,8 +49,10 @@ pub(super) fn build_mlt(integ: &IntegratorDesc, check: &Check) -> Result<MltSett
     Ok(s)
 }
 
-/// Refuses the Metropolis keys in a scene whose integrator is not mlt: they would do nothing.
-pub(super) fn refuse_mlt_keys(integ: &IntegratorDesc, check: &Check) -> Result<()> {
+/// Warns about the Metropolis keys on another integrator: switching an
+/// `mlt` scene to another estimator (`--set integrator.type=bdpt`) keeps
+/// them, as it keeps the photon-mapping keys.
+pub(super) fn warn_mlt_keys(integ: &IntegratorDesc, check: &Check) {
     let given = [
         (
             "large_step_probability",
@@ -60,14 +62,13 @@ pub(super) fn refuse_mlt_keys(integ: &IntegratorDesc, check: &Check) -> Result<(
         ("bootstrap_samples", integ.bootstrap_samples.is_some()),
         ("chains", integ.chains.is_some()),
     ];
-    match given.iter().find(|(_, set)| *set) {
-        Some((key, _)) => Err(check.error(
+    for (key, _) in given.iter().filter(|(_, set)| *set) {
+        check.warn(
             &format!("integrator.{key}"),
             format!(
-                "applies to type = \"mlt\" only; this scene's type is \"{}\"",
+                "is a Metropolis setting, ignored by type = \"{}\" (only \"mlt\" uses it)",
                 integ.kind
             ),
-        )),
-        None => Ok(()),
+        );
     }
 }

@@ -35,7 +35,7 @@ use crate::sampling::SamplerKind;
 use camera::build_camera;
 use description::SceneDesc;
 use lights::{build_lights, light_pick};
-use mlt_keys::{build_mlt, refuse_mlt_keys};
+use mlt_keys::{build_mlt, warn_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
 
@@ -428,7 +428,7 @@ fn build_timing(desc: &SceneDesc, check: &Check, frame: Option<i64>) -> Result<a
 fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) -> Result<Settings> {
     let integ = &desc.integrator;
     if integ.kind != "mlt" {
-        refuse_mlt_keys(integ, check)?;
+        warn_mlt_keys(integ, check);
     }
     Ok(Settings {
         integrator: match integ.kind.as_str() {
