@@ -6,6 +6,7 @@
 mod bdpt_support;
 
 use bdpt_support::common::furnace_scene;
+use bdpt_support::common::scene_text::SceneText;
 use bdpt_support::*;
 
 /// Albedo-1 media (isotropic and HG, thin and thick, grey and chromatic σt)
@@ -78,37 +79,27 @@ fn emissive_room_furnace_with_a_medium() {
 /// The slab y ∈ [0, 1] under a delta sun, seen from above at 6×6 pixels,
 /// with single scattering only or all orders, over an absorbing ground.
 fn sunlit_slab(sigma_t: &str, albedo: &str, g: f32, max_scatter_depth: Option<u32>) -> String {
-    let depth = max_scatter_depth.map_or(String::new(), |d| format!("max_scatter_depth = {d}"));
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 5.0, 5.0]
-        look_at = [0.0, 0.0, 0.0]
-        fov = 30.0
-        resolution = [6, 6]
-        [integrator]
-        max_depth = 1000
-        seed = 11
-        {depth}
-        [[light]]
-        type = "sun"
-        direction = [-0.5, -0.866, 0.0]
-        irradiance = [3.0, 2.0, 4.0]
-        angular_radius = 0.0
-        [[shape]]
-        type = "quad"
-        center = [0.0, 0.0, 0.0]
-        normal = [0.0, 1.0, 0.0]
-        size = [40.0, 40.0]
-        material = {{ type = "diffuse", albedo = 0.0 }}
-        [[medium]]
-        type = "homogeneous"
-        sigma_t = {sigma_t}
-        albedo = {albedo}
-        phase = {{ type = "hg", g = {g:?} }}
-        bounds = {{ type = "box", min = [-20.0, 0.0, -20.0], max = [20.0, 1.0, 20.0] }}
-        "#
-    )
+    SceneText::camera([0.0, 5.0, 5.0], [0.0; 3], [6, 6])
+        .fov(30.0)
+        .integrator(&format!(
+            "max_depth = 1000\nseed = 11\n{}",
+            scatter_depth(max_scatter_depth)
+        ))
+        .sun([-0.5, -0.866, 0.0], [3.0, 2.0, 4.0])
+        .with("angular_radius = 0.0")
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [40.0, 40.0])
+        .with("material = { type = \"diffuse\", albedo = 0.0 }")
+        .medium(&format!(
+            "type = \"homogeneous\"\nsigma_t = {sigma_t}\nalbedo = {albedo}\n\
+             phase = {{ type = \"hg\", g = {g:?} }}\n\
+             bounds = {{ type = \"box\", min = [-20.0, 0.0, -20.0], max = [20.0, 1.0, 20.0] }}"
+        ))
+        .build()
+}
+
+/// `max_scatter_depth = d` for `Some(d)`, nothing (all orders) for `None`.
+fn scatter_depth(max_scatter_depth: Option<u32>) -> String {
+    max_scatter_depth.map_or(String::new(), |d| format!("max_scatter_depth = {d}"))
 }
 
 /// The sunlit slab of the analytic suite, single and multiple scattering,
@@ -133,33 +124,20 @@ fn sunlit_slab_matches_the_path_tracer() {
 /// the fog: single scattering only (the analytic suite's quadrature scene)
 /// and all orders with the floor's bounces.
 fn lit_fog(light: &str, sigma_s: &str, max_scatter_depth: Option<u32>) -> String {
-    let depth = max_scatter_depth.map_or(String::new(), |d| format!("max_scatter_depth = {d}"));
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 1.0, 4.0]
-        look_at = [0.5, 0.6, 0.0]
-        fov = 50.0
-        resolution = [6, 6]
-        [integrator]
-        max_depth = 100
-        seed = 13
-        {depth}
-        {light}
-        [[shape]]
-        type = "quad"
-        center = [0.0, 0.0, 0.0]
-        normal = [0.0, 1.0, 0.0]
-        size = [8.0, 8.0]
-        material = {{ type = "diffuse", albedo = [0.7, 0.6, 0.5] }}
-        [[medium]]
-        type = "homogeneous"
-        sigma_a = 0.05
-        sigma_s = {sigma_s}
-        phase = {{ type = "hg", g = 0.5 }}
-        global = true
-        "#
-    )
+    SceneText::camera([0.0, 1.0, 4.0], [0.5, 0.6, 0.0], [6, 6])
+        .fov(50.0)
+        .integrator(&format!(
+            "max_depth = 100\nseed = 13\n{}",
+            scatter_depth(max_scatter_depth)
+        ))
+        .raw(light)
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [8.0, 8.0])
+        .with("material = { type = \"diffuse\", albedo = [0.7, 0.6, 0.5] }")
+        .medium(&format!(
+            "type = \"homogeneous\"\nsigma_a = 0.05\nsigma_s = {sigma_s}\n\
+             phase = {{ type = \"hg\", g = 0.5 }}\nglobal = true"
+        ))
+        .build()
 }
 
 const POINT_LIGHT: &str =

@@ -6,14 +6,8 @@
 mod bdpt_support;
 
 use bdpt_support::common::furnace_scene;
+use bdpt_support::common::scene_text::{vdb_box_medium, SceneText};
 use bdpt_support::*;
-
-/// The unit VDB box, centred on the origin, scaled by 1.6 and turned.
-fn vdb_box(fields: &str) -> String {
-    format!(
-        "[[medium]]\ntype = \"vdb\"\nfile = \"tests/data/volumes/homogeneous_box.vdb\"\n{fields}\ntransform = {{ translate = [-0.8, -0.8, -0.8], scale = 1.6, rotate = [15.0, 25.0, 0.0] }}\n"
-    )
-}
 
 /// Albedo-1 VDB boxes (grid and global majorants, chromatic σt) in an
 /// environment of radiance 1: every pixel is 1.
@@ -24,7 +18,7 @@ fn white_furnace_vdb() {
         "density_scale = 8.0\nmajorant = \"global\"",
         "density_scale = 2.0\nsigma_t_scale = [1.0, 0.25, 3.0]\nphase = { type = \"hg\", g = -0.4 }",
     ] {
-        let scene = scene_from_str(&furnace_scene(&vdb_box(fields), 1.0));
+        let scene = scene_from_str(&furnace_scene(&vdb_box_medium(fields), 1.0));
         let pixels = bdpt_pixels(&scene, 256);
         assert_pixels_equal(&pixels, [1.0; 3], &format!("white furnace vdb {fields}"));
     }
@@ -33,33 +27,13 @@ fn white_furnace_vdb() {
 /// The test plume (1.4 × 1.9 × 1.4 m of fbm smoke) over a diffuse ground,
 /// lit by `lights`, its shadow rays estimated by `estimator`.
 fn plume(lights: &str, density: f32, estimator: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 1.0, 4.5]
-        look_at = [0.0, 0.8, 0.0]
-        fov = 38.0
-        resolution = [6, 6]
-        [integrator]
-        max_depth = 24
-        seed = 17
-        transmittance = "{estimator}"
-        {lights}
-        [[shape]]
-        type = "quad"
-        center = [0.0, 0.0, 0.0]
-        normal = [0.0, 1.0, 0.0]
-        size = [6.0, 6.0]
-        material = {{ type = "diffuse", albedo = [0.5, 0.45, 0.4] }}
-        [[medium]]
-        type = "vdb"
-        file = "tests/data/volumes/smoke_plume.vdb"
-        density_scale = {density:?}
-        albedo = [0.9, 0.85, 0.8]
-        phase = {{ type = "hg", g = 0.3 }}
-        transform = {{ translate = [1.2, 0.35, 0.35] }}
-        "#
-    )
+    SceneText::plume_view(6)
+        .integrator(&format!(
+            "max_depth = 24\nseed = 17\ntransmittance = \"{estimator}\""
+        ))
+        .raw(lights)
+        .smoke_plume_on_ground(density)
+        .build()
 }
 
 const SUN_AND_SKY: &str = "[[light]]\ntype = \"sun\"\ndirection = [-1.0, -1.1, -0.7]\nirradiance = [3.0, 2.85, 2.6]\n[[light]]\ntype = \"sky\"\nzenith = [0.25, 0.4, 0.8]\nhorizon = [0.6, 0.7, 0.8]\n";

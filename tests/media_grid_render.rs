@@ -10,17 +10,11 @@ use brume::medium::{
     GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,
 };
 use brume::volume::{FloatGrid, GridTransform};
+use common::scene_text::vdb_box_medium;
 use common::*;
 use glam::{DVec3, IVec3};
 use std::path::Path;
 use std::sync::Arc;
-
-/// The unit VDB box, centred on the origin, scaled by 1.6 and turned.
-fn vdb_box(fields: &str) -> String {
-    format!(
-        "[[medium]]\ntype = \"vdb\"\nfile = \"tests/data/volumes/homogeneous_box.vdb\"\n{fields}\ntransform = {{ translate = [-0.8, -0.8, -0.8], scale = 1.6, rotate = [15.0, 25.0, 0.0] }}\n"
-    )
-}
 
 /// Albedo-1 VDB box (thin, thick, chromatic; grid and global majorants) in a
 /// uniform environment of radiance 1: every pixel is 1.
@@ -31,7 +25,7 @@ fn white_furnace_vdb() {
         "density_scale = 8.0\nmajorant = \"global\"",
         "density_scale = 2.0\nsigma_t_scale = [1.0, 0.25, 3.0]\nphase = { type = \"hg\", g = -0.4 }",
     ] {
-        let scene = scene_from_str(&furnace_scene(&vdb_box(fields), 1.0));
+        let scene = scene_from_str(&furnace_scene(&vdb_box_medium(fields), 1.0));
         let pixels = estimate_pixels(&scene, 1024);
         assert_pixels_equal(&pixels, [1.0; 3], &format!("white furnace vdb {fields}"));
     }
@@ -44,7 +38,7 @@ fn emissive_furnace_vdb() {
         "density_scale = 3.0\nalbedo = 0.3\nemission = 0.7",
         "density_scale = 1.0\nsigma_t_scale = [2.0, 0.5, 4.0]\nalbedo = [0.2, 0.9, 0.0]\nemission = 0.7\nmajorant = \"global\"",
     ] {
-        let scene = scene_from_str(&furnace_scene(&vdb_box(fields), 0.7));
+        let scene = scene_from_str(&furnace_scene(&vdb_box_medium(fields), 0.7));
         let pixels = estimate_pixels(&scene, 512);
         assert_pixels_equal(&pixels, [0.7; 3], &format!("emissive furnace vdb {fields}"));
     }

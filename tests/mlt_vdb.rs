@@ -6,6 +6,7 @@
 
 mod bdpt_support;
 
+use bdpt_support::common::scene_text::SceneText;
 use bdpt_support::common::{assert_within, scene_from_str};
 use bdpt_support::{Accumulator, Estimate};
 use brume::integrator::bdpt::{strategies, BdptArena};
@@ -16,35 +17,11 @@ use std::sync::atomic::AtomicBool;
 const SIZE: u32 = 8;
 
 fn plume(integrator: &str) -> String {
-    format!(
-        r#"
-        [camera]
-        position = [0.0, 1.0, 4.5]
-        look_at = [0.0, 0.8, 0.0]
-        fov = 38.0
-        resolution = [{SIZE}, {SIZE}]
-        [integrator]
-        max_depth = 12
-        {integrator}
-        [[light]]
-        type = "point"
-        position = [1.2, 2.2, 1.0]
-        intensity = [6.0, 5.0, 4.0]
-        [[shape]]
-        type = "quad"
-        center = [0.0, 0.0, 0.0]
-        normal = [0.0, 1.0, 0.0]
-        size = [6.0, 6.0]
-        material = {{ type = "diffuse", albedo = [0.5, 0.45, 0.4] }}
-        [[medium]]
-        type = "vdb"
-        file = "tests/data/volumes/smoke_plume.vdb"
-        density_scale = 10.0
-        albedo = [0.9, 0.85, 0.8]
-        phase = {{ type = "hg", g = 0.3 }}
-        transform = {{ translate = [1.2, 0.35, 0.35] }}
-        "#
-    )
+    SceneText::plume_view(SIZE)
+        .integrator(&format!("max_depth = 12\n{integrator}"))
+        .point_light([1.2, 2.2, 1.0], [6.0, 5.0, 4.0])
+        .smoke_plume_on_ground(10.0)
+        .build()
 }
 
 /// Mean luminance of each quadrant of a row-major image.

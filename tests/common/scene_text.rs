@@ -124,6 +124,24 @@ impl SceneText {
         self.table("[[medium]]", lines)
     }
 
+    /// The test plume (`tests/data/volumes/smoke_plume.vdb`, 1.4 × 1.9 × 1.4 m
+    /// of fbm smoke) at `density_scale`, standing on a 6 m diffuse ground.
+    pub fn smoke_plume_on_ground(self, density_scale: f32) -> Self {
+        self.quad([0.0; 3], [0.0, 1.0, 0.0], [6.0, 6.0])
+            .with("material = { type = \"diffuse\", albedo = [0.5, 0.45, 0.4] }")
+            .medium(&format!(
+                "type = \"vdb\"\nfile = \"tests/data/volumes/smoke_plume.vdb\"\n\
+                 density_scale = {density_scale:?}\nalbedo = [0.9, 0.85, 0.8]\n\
+                 phase = {{ type = \"hg\", g = 0.3 }}\n\
+                 transform = {{ translate = [1.2, 0.35, 0.35] }}"
+            ))
+    }
+
+    /// The plume's view: from 4.5 m in front, over `pixels` × `pixels`.
+    pub fn plume_view(pixels: u32) -> Self {
+        Self::camera([0.0, 1.0, 4.5], [0.0, 0.8, 0.0], [pixels, pixels]).fov(38.0)
+    }
+
     /// `text` as it is (blocks the builder has no words for, or several tables at once).
     pub fn raw(mut self, text: &str) -> Self {
         writeln!(self.text, "{text}").unwrap();
@@ -140,4 +158,15 @@ impl Display for SceneText {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.text)
     }
+}
+
+/// A `[[medium]]` of the unit VDB box (`tests/data/volumes/homogeneous_box.vdb`)
+/// with `fields`, centred on the origin, scaled by 1.6 and turned.
+pub fn vdb_box_medium(fields: &str) -> String {
+    SceneText::default()
+        .medium(&format!(
+            "type = \"vdb\"\nfile = \"tests/data/volumes/homogeneous_box.vdb\"\n{fields}\n\
+             transform = {{ translate = [-0.8, -0.8, -0.8], scale = 1.6, rotate = [15.0, 25.0, 0.0] }}"
+        ))
+        .build()
 }
