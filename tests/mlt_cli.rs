@@ -55,6 +55,18 @@ fn bad_keys_are_scene_errors() {
             "type = \"mlt\"\nchains = 0",
             &["integrator.chains", "at least 1"],
         ),
+        (
+            "type = \"mlt\"\nbootstrap_samples = 4294967295",
+            &["integrator.bootstrap_samples", "68.7 GB", "memory limit"],
+        ),
+        (
+            "type = \"sppm\"\nradius = 1e-30",
+            &["integrator.radius", "1e-30"],
+        ),
+        (
+            "type = \"sppm\"\nradius = 1e30",
+            &["integrator.radius", "1e30"],
+        ),
     ] {
         assert_scene_refused::<&str>(
             dir.path(),

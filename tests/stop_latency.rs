@@ -240,3 +240,29 @@ fn sigint_on_a_large_image_writes_and_exits_within_a_second() {
     let best = answers.iter().min().unwrap();
     assert!(*best < ANSWER, "SIGINT answered after {answers:?}");
 }
+
+/// SIGINT during a Metropolis render's bootstrap (2·10⁸ independent paths,
+/// minutes of work): answered within the bound, nothing written.
+#[test]
+fn sigint_is_answered_at_once_during_the_mlt_bootstrap() {
+    let _serial = one_at_a_time();
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), 16, 4, true);
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let text = text.replace(
+        "[integrator]\n",
+        "[integrator]\ntype = \"mlt\"\nbootstrap_samples = 200000000\n",
+    );
+    std::fs::write(&scene, text).unwrap();
+    let child = spawn(dir.path(), &["render", "s.toml", "--quiet"]);
+    std::thread::sleep(Duration::from_millis(1500));
+    let (out, answered) = stop(child, libc::SIGINT);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert!(
+        answered < ANSWER,
+        "SIGINT answered after {answered:?}: {err}"
+    );
+    assert!(err.contains("nothing written"), "{err}");
+    assert!(!dir.path().join("s.exr").exists());
+}

@@ -58,13 +58,19 @@ impl<'a> Metropolis<'a> {
     ) -> Metropolis<'a> {
         let start = Instant::now();
         let mux = Multiplexed::new(scene);
-        let boot = Bootstrap::run(scene, settings, &mux);
         let pixels = scene.camera.width() as u64 * scene.camera.height() as u64;
         let count = (settings.chains as u64).min(pixels).max(1);
-        let chains = (0..count)
-            .into_par_iter()
-            .filter_map(|c| Chain::start(scene, settings, &mux, &boot, c))
-            .collect();
+        // Stopped during the bootstrap: no chain starts, the run loop sees the stop.
+        let (boot, chains) = match Bootstrap::run(scene, settings, &mux, cancel) {
+            Some(boot) => {
+                let chains = (0..count)
+                    .into_par_iter()
+                    .filter_map(|c| Chain::start(scene, settings, &mux, &boot, c))
+                    .collect();
+                (boot, chains)
+            }
+            None => (Bootstrap::stopped(), Vec::new()),
+        };
         Metropolis {
             scene,
             options,

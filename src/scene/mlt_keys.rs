@@ -2,7 +2,8 @@
 
 use super::description::IntegratorDesc;
 use super::validate::Check;
-use crate::error::Result;
+use crate::error::{limits, Result};
+use crate::integrator::mlt::bootstrap::BYTES_PER_SAMPLE;
 use crate::integrator::mlt::MltSettings;
 
 /// Deepest `max_depth` a Metropolis render takes.
@@ -46,6 +47,17 @@ pub(super) fn build_mlt(integ: &IntegratorDesc, check: &Check) -> Result<MltSett
         // One bootstrap path of every length at least.
         s.bootstrap_samples = lengths as u32;
     }
+    let bytes = u128::from(s.bootstrap_samples) * u128::from(BYTES_PER_SAMPLE);
+    limits::check(bytes).map_err(|refusal| {
+        check.error(
+            "integrator.bootstrap_samples",
+            format!(
+                "{} samples need {} of memory, {refusal}",
+                s.bootstrap_samples,
+                limits::format_bytes(bytes)
+            ),
+        )
+    })?;
     Ok(s)
 }
 

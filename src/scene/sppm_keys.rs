@@ -6,6 +6,12 @@ use super::validate::Check;
 use crate::error::Error;
 use crate::integrator::sppm::{SppmSettings, DEFAULT_ALPHA, DEFAULT_PHOTONS, MAX_PHOTONS};
 
+/// Smallest first gather radius (scene units): 1 / (π r²) per photon stays far from overflow.
+const MIN_RADIUS: f32 = 1e-9;
+
+/// Largest first gather radius (scene units): r² stays finite.
+const MAX_RADIUS: f32 = 1e18;
+
 /// The photon settings of `integ`, validated (defaults where not given).
 pub(super) fn build(integ: &IntegratorDesc, check: &Check) -> Result<SppmSettings, Error> {
     if integ.kind != "sppm" {
@@ -36,7 +42,8 @@ pub(super) fn build(integ: &IntegratorDesc, check: &Check) -> Result<SppmSetting
         ));
     }
     let radius = match integ.radius {
-        Some(r) => Some(check.positive("integrator.radius", r)?),
+        // r² and the kernel 1 / (π r² M) must stay finite, nonzero single-precision numbers.
+        Some(r) => Some(check.range("integrator.radius", r, MIN_RADIUS, MAX_RADIUS, true)?),
         None => None,
     };
     let alpha = match integ.alpha {

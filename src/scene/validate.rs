@@ -79,6 +79,7 @@ impl Check {
             Ok(v)
         } else {
             let (a, b) = if inclusive { ("[", "]") } else { ("(", ")") };
+            let (lo, hi, v) = (user_number(lo), user_number(hi), user_number(v));
             Err(self.error(field, format!("must be in {a}{lo}, {hi}{b}, got {v}")))
         }
     }
@@ -89,7 +90,7 @@ impl Check {
         if v > 0.0 {
             Ok(v)
         } else {
-            Err(self.error(field, format!("must be positive, got {v}")))
+            Err(self.error(field, format!("must be positive, got {}", user_number(v))))
         }
     }
 
@@ -141,5 +142,31 @@ impl Check {
             ));
         }
         Ok(rgb)
+    }
+}
+
+/// `v` as a user writes it: plain digits for everyday magnitudes (`180`,
+/// `0.5`), exponent notation for tiny and huge ones (`1e-30`, not thirty zeros).
+pub fn user_number(v: f32) -> String {
+    let magnitude = v.abs();
+    if magnitude == 0.0 || (1e-4..1e7).contains(&magnitude) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::user_number;
+
+    #[test]
+    fn numbers_read_as_written() {
+        assert_eq!(user_number(180.0), "180");
+        assert_eq!(user_number(0.5), "0.5");
+        assert_eq!(user_number(0.0), "0");
+        assert_eq!(user_number(1e-30), "1e-30");
+        assert_eq!(user_number(1e18), "1e18");
+        assert_eq!(user_number(-2e-9), "-2e-9");
     }
 }

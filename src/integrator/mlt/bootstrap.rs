@@ -14,6 +14,13 @@ use crate::integrator::Scene;
 use crate::sampling::primary::PrimarySamples;
 use crate::sampling::{mix64, Sampler};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Bootstrap samples evaluated between two looks at the stop request.
+const BLOCK: u64 = 1 << 14;
+
+/// Bytes the bootstrap keeps per sample (its luminance, then its running weight).
+pub const BYTES_PER_SAMPLE: u64 = 16;
 
 /// The bootstrap's result.
 #[derive(Clone, Debug)]
@@ -34,8 +41,15 @@ pub fn key(seed: u64, i: u64) -> u64 {
 }
 
 impl Bootstrap {
-    /// Evaluates `settings.bootstrap_samples` independent states of `scene` (in parallel).
-    pub fn run(scene: &Scene, settings: &MltSettings, mux: &Multiplexed) -> Bootstrap {
+    /// Evaluates `settings.bootstrap_samples` independent states of `scene`
+    /// (in parallel, in blocks between which a stop request is honoured:
+    /// None when `cancel` stopped it).
+    pub fn run(
+        scene: &Scene,
+        settings: &MltSettings,
+        mux: &Multiplexed,
+        cancel: &AtomicBool,
+    ) -> Option<Bootstrap> {
         let lengths = Multiplexed::max_length(scene);
         let n = settings.bootstrap_samples as u64;
         let seed = scene.settings.seed;
@@ -43,9 +57,13 @@ impl Bootstrap {
             let ps = PrimarySamples::new(0, settings.small_step_size, 0.0);
             (ps, BdptArena::new())
         };
-        let luminance: Vec<f64> = (0..n)
-            .into_par_iter()
-            .map_init(init, |(ps, arena), i| {
+        let mut luminance: Vec<f64> = Vec::with_capacity(n as usize);
+        for start in (0..n).step_by(BLOCK as usize) {
+            if cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let block = (start..(start + BLOCK).min(n)).into_par_iter();
+            luminance.par_extend(block.map_init(init, |(ps, arena), i| {
                 ps.reseed(key(seed, i));
                 let k = 1 + (i % lengths as u64) as usize;
                 let path = mux.evaluate(scene, k, &mut Sampler::primary(ps), arena);
@@ -53,9 +71,20 @@ impl Bootstrap {
                     Some(p) if p.radiance.is_finite() => p.radiance.luminance().max(0.0) as f64,
                     _ => 0.0,
                 }
-            })
-            .collect();
-        Bootstrap::from_luminance(&luminance, lengths)
+            }));
+        }
+        Some(Bootstrap::from_luminance(&luminance, lengths))
+    }
+
+    /// An empty bootstrap (no sample, brightness 0): the state of a render
+    /// stopped before its bootstrap finished.
+    pub fn stopped() -> Bootstrap {
+        Bootstrap {
+            cumulative: Vec::new(),
+            lengths: 1,
+            brightness: 0.0,
+            std_error: 0.0,
+        }
     }
 
     /// The weights, b and its standard error of samples of these luminances.

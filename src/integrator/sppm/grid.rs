@@ -26,10 +26,21 @@ pub struct Grid {
 /// Integer cell coordinates.
 type Cell = [i32; 3];
 
+/// Most cells across the photons' bounds along an axis: cells are `2r` wide
+/// or wider, so a radius far below the scene's size neither makes a beam
+/// query walk billions of cells nor pushes cell coordinates past `i32`.
+const MAX_CELLS_PER_AXIS: f32 = 4096.0;
+
+/// Most cells a beam query visits (a bound the walk cannot exceed even where
+/// rounding keeps its parameter from advancing).
+const MAX_WALK_CELLS: usize = 3 * (MAX_CELLS_PER_AXIS as usize + 2);
+
 /// How positions map to buckets.
 #[derive(Clone, Copy, Default)]
 struct Hashing {
     radius: f32,
+    /// Where cell [0, 0, 0] starts.
+    origin: Vec3,
     cell: f32,
     /// Table size − 1 (the size is a power of two).
     mask: u32,
@@ -37,7 +48,7 @@ struct Hashing {
 
 impl Hashing {
     fn cell_of(&self, p: Vec3) -> Cell {
-        let q = p / self.cell;
+        let q = (p - self.origin) / self.cell;
         [q.x.floor() as i32, q.y.floor() as i32, q.z.floor() as i32]
     }
 
@@ -74,22 +85,27 @@ impl Grid {
     /// Rebuilds the grid over `points` for gather radius `radius`.
     pub fn build(&mut self, points: &[Vec3], radius: f32) {
         let table = (2 * points.len()).next_power_of_two().max(1024);
+        let bounds = points.iter().fold(None, |bounds: Option<Bounds3>, &p| {
+            let ball = Bounds3::new(p - Vec3::splat(radius), p + Vec3::splat(radius));
+            Some(bounds.map_or(ball, |a| a.union(&ball)))
+        });
+        self.bounds = bounds;
+        let (origin, span) = bounds.map_or((Vec3::ZERO, 0.0), |b| {
+            (b.min, (b.max - b.min).max_element())
+        });
         let hash = Hashing {
             radius,
-            cell: 2.0 * radius,
+            origin,
+            cell: (2.0 * radius).max(span / MAX_CELLS_PER_AXIS),
             mask: table as u32 - 1,
         };
         self.hash = hash;
         let starts = &mut self.starts;
         starts.clear();
         starts.resize(table + 1, 0);
-        let mut bounds: Option<Bounds3> = None;
         for &p in points {
             hash.for_buckets(p, |b| starts[b + 1] += 1);
-            let ball = Bounds3::new(p - Vec3::splat(radius), p + Vec3::splat(radius));
-            bounds = Some(bounds.map_or(ball, |a| a.union(&ball)));
         }
-        self.bounds = bounds;
         for b in 0..table {
             starts[b + 1] += starts[b];
         }
@@ -149,8 +165,8 @@ impl Grid {
         }
         let h = self.hash;
         let r2 = h.radius * h.radius;
-        let mut walk = CellWalk::new(ray, t0, h.cell, h.cell_of(ray.at(t0)));
-        loop {
+        let mut walk = CellWalk::new(ray, t0, (h.origin, h.cell), h.cell_of(ray.at(t0)));
+        for _ in 0..MAX_WALK_CELLS {
             let (enter, exit) = (walk.t, walk.next_t().min(t1));
             for &i in self.bucket_entries(h.bucket(walk.cell)) {
                 let d = positions[i as usize] - ray.origin;
@@ -183,8 +199,9 @@ struct CellWalk {
 }
 
 impl CellWalk {
-    fn new(ray: &Ray, t0: f32, size: f32, cell: Cell) -> CellWalk {
-        let o = ray.origin;
+    /// The walk from `cell`, where `ray.at(t0)` lies, over cells of `size` starting at `origin`.
+    fn new(ray: &Ray, t0: f32, (origin, size): (Vec3, f32), cell: Cell) -> CellWalk {
+        let o = ray.origin - origin;
         let d = ray.direction;
         let mut step = [0; 3];
         let mut next = [f32::INFINITY; 3];
@@ -289,5 +306,36 @@ mod tests {
                 assert_eq!(found, brute, "radius {radius}");
             }
         }
+    }
+
+    /// A radius far below the photons' spread, photons far from the origin:
+    /// queries stay exact and a beam query ends (cells are capped at
+    /// MAX_CELLS_PER_AXIS across the bounds, not 2r wide).
+    #[test]
+    fn tiny_radii_far_from_the_origin_stay_exact_and_end() {
+        let offset = Vec3::new(3.0e5, -2.0e5, 1.0e5);
+        let mut pts: Vec<Vec3> = points(2000, 5).into_iter().map(|p| p + offset).collect();
+        // A pair closer than the radius, so that something is found.
+        pts.push(offset + Vec3::new(0.1, 0.2, 0.3));
+        let radius = 1.0e-3;
+        let mut grid = Grid::default();
+        grid.build(&pts, radius);
+        let q = offset + Vec3::new(0.1, 0.2, 0.3 + 0.5e-3);
+        let near: Vec<u32> = grid
+            .near(q)
+            .iter()
+            .copied()
+            .filter(|&i| (pts[i as usize] - q).length() < radius)
+            .collect();
+        assert_eq!(near, vec![2000]);
+        let ray = Ray::new(offset + Vec3::new(0.1, 0.2, -3.0), Vec3::Z);
+        let mut found = Vec::new();
+        grid.along(&ray, (0.0, 10.0), &pts, |i, _| found.push(i));
+        assert_eq!(found, vec![2000]);
+        // 1e-30: every cell holds many photons, none within the radius.
+        grid.build(&pts, 1.0e-30);
+        let mut count = 0;
+        grid.along(&ray, (0.0, 10.0), &pts, |_, _| count += 1);
+        assert_eq!(count, 0);
     }
 }
