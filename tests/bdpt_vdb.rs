@@ -6,18 +6,14 @@
 mod bdpt_support;
 
 use bdpt_support::common::furnace_scene;
-use bdpt_support::common::scene_text::{vdb_box_medium, SceneText};
+use bdpt_support::common::scene_text::{vdb_box_medium, SceneText, VDB_BOX_FURNACES};
 use bdpt_support::*;
 
 /// Albedo-1 VDB boxes (grid and global majorants, chromatic σt) in an
 /// environment of radiance 1: every pixel is 1.
 #[test]
 fn white_furnace_vdb() {
-    for fields in [
-        "density_scale = 0.5\nphase = { type = \"hg\", g = 0.6 }",
-        "density_scale = 8.0\nmajorant = \"global\"",
-        "density_scale = 2.0\nsigma_t_scale = [1.0, 0.25, 3.0]\nphase = { type = \"hg\", g = -0.4 }",
-    ] {
+    for fields in VDB_BOX_FURNACES {
         let scene = scene_from_str(&furnace_scene(&vdb_box_medium(fields), 1.0));
         let pixels = bdpt_pixels(&scene, 256);
         assert_pixels_equal(&pixels, [1.0; 3], &format!("white furnace vdb {fields}"));

@@ -10,7 +10,7 @@ use brume::medium::{
     GridEmission, GridMedium, GridMediumParams, MajorantMode, Medium, PhaseFunction,
 };
 use brume::volume::{FloatGrid, GridTransform};
-use common::scene_text::vdb_box_medium;
+use common::scene_text::{vdb_box_medium, VDB_BOX_FURNACES};
 use common::*;
 use glam::{DVec3, IVec3};
 use std::path::Path;
@@ -20,11 +20,7 @@ use std::sync::Arc;
 /// uniform environment of radiance 1: every pixel is 1.
 #[test]
 fn white_furnace_vdb() {
-    for fields in [
-        "density_scale = 0.5\nphase = { type = \"hg\", g = 0.6 }",
-        "density_scale = 8.0\nmajorant = \"global\"",
-        "density_scale = 2.0\nsigma_t_scale = [1.0, 0.25, 3.0]\nphase = { type = \"hg\", g = -0.4 }",
-    ] {
+    for fields in VDB_BOX_FURNACES {
         let scene = scene_from_str(&furnace_scene(&vdb_box_medium(fields), 1.0));
         let pixels = estimate_pixels(&scene, 1024);
         assert_pixels_equal(&pixels, [1.0; 3], &format!("white furnace vdb {fields}"));
