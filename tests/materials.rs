@@ -52,7 +52,11 @@ fn rough_conductor_sampling_follows_its_pdf() {
     };
     for (i, alpha) in [0.1, 0.4, 1.0].into_iter().enumerate() {
         for (j, theta) in [0.0, 40.0, 80.0].into_iter().enumerate() {
-            let m = Material::Conductor { alpha, fresnel };
+            let m = Material::Conductor {
+                alpha,
+                fresnel,
+                multiscatter: false,
+            };
             let r = chi2_of(m, direction(theta), true, (10 * i + j) as u64);
             assert_chi2(&format!("conductor α {alpha} θ {theta}"), &r);
         }
@@ -67,7 +71,11 @@ fn rough_dielectric_sampling_follows_its_pdf_on_both_sides() {
             for front in [true, false] {
                 for ior in [1.5, 1.1] {
                     seed += 1;
-                    let m = Material::Dielectric { ior, alpha };
+                    let m = Material::Dielectric {
+                        ior,
+                        alpha,
+                        multiscatter: false,
+                    };
                     let wo = if front {
                         direction(theta)
                     } else {
@@ -134,6 +142,7 @@ fn white_rough_conductor_reflects_its_single_scattering_albedo() {
             let m = Material::Conductor {
                 alpha: alpha as f32,
                 fresnel: ConductorFresnel::Schlick { f0: Rgb::WHITE },
+                multiscatter: false,
             };
             let wo = direction(theta_deg as f32);
             let sp = Shading::facing(Vec3::Z, wo);
@@ -164,7 +173,11 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
         (0.8, 60.0, true),
         (0.3, 50.0, false),
     ] {
-        let m = Material::Dielectric { ior: 1.5, alpha };
+        let m = Material::Dielectric {
+            ior: 1.5,
+            alpha,
+            multiscatter: false,
+        };
         let eta: f32 = if front { 1.5 } else { 1.0 / 1.5 };
         let wo = if front {
             direction(theta)
@@ -192,6 +205,7 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
     let m = Material::Dielectric {
         ior: 1.5,
         alpha: 0.002,
+        multiscatter: false,
     };
     for theta in [0.0f32, 45.0, 80.0] {
         let wo = direction(theta);
@@ -250,7 +264,7 @@ fn white_rough_conductor_sphere_shows_its_albedo_through_nee_and_mis() {
     // sampling combined by MIS.
     let alpha = 0.5;
     let scene = scene_from_str(&furnace_scene(&format!(
-        "{{ type = \"conductor\", alpha = {alpha}, f0 = 1.0 }}"
+        "{{ type = \"conductor\", alpha = {alpha}, f0 = 1.0, multiscatter = false }}"
     )));
     for b in [0.0f32, 0.6, 0.9] {
         let ray = Ray::new(Vec3::new(b, 0.0, 4.0), -Vec3::Z);
