@@ -5,15 +5,14 @@ mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
 use analytic_support::SceneText;
+use analytic_support::ggx::ggx_white_albedo;
 use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
 use brume::material::{ConductorFresnel, Material, Shading};
 use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
 use brume::sampling::chi2::{Chi2Result, SphereChi2};
-use brume::sampling::quadrature::gauss_legendre;
 use brume::sampling::Sampler;
 use std::cell::RefCell;
-use std::f64::consts::PI;
 
 const ALPHA: f64 = 0.01;
 /// 3 conductor roughnesses × 3 angles + 2 dielectric roughnesses × 2 angles × 2 sides × 2 iors.
@@ -90,41 +89,6 @@ fn rough_dielectric_sampling_follows_its_pdf_on_both_sides() {
             }
         }
     }
-}
-
-/// GGX single-scattering albedo of a white (F = 1) conductor, by 2-D
-/// Gauss–Legendre quadrature of D G2 / (4 cos θo) over the hemisphere, in f64
-/// and with its own D and Λ (not brume's).
-fn ggx_white_albedo(alpha: f64, theta_o: f64, panels: usize) -> f64 {
-    let a2 = alpha * alpha;
-    let lambda = |cos: f64| {
-        let tan2 = (1.0 - cos * cos) / (cos * cos);
-        0.5 * ((1.0 + a2 * tan2).sqrt() - 1.0)
-    };
-    let wo = [theta_o.sin(), 0.0, theta_o.cos()];
-    gauss_legendre(
-        |mu| {
-            gauss_legendre(
-                |phi| {
-                    let s = (1.0 - mu * mu).sqrt();
-                    let wi = [s * phi.cos(), s * phi.sin(), mu];
-                    let h = [wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]];
-                    let len = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
-                    let hz = h[2] / len;
-                    let t = hz * hz * (a2 - 1.0) + 1.0;
-                    let d = a2 / (PI * t * t);
-                    let g2 = 1.0 / (1.0 + lambda(wo[2]) + lambda(mu));
-                    d * g2 / (4.0 * wo[2])
-                },
-                0.0,
-                2.0 * PI,
-                panels,
-            )
-        },
-        0.0,
-        1.0,
-        panels,
-    )
 }
 
 #[test]
