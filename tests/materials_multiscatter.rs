@@ -65,10 +65,10 @@ fn energy(m: Material, theta_deg: f32, front: bool, n: usize, seed: u64) -> Esti
     })
 }
 
-/// An estimate shifted by a constant.
-fn minus(e: Estimate, c: f64) -> Estimate {
+/// An estimate shifted by a constant per channel.
+fn minus(e: Estimate, c: [f64; 3]) -> Estimate {
     Estimate {
-        mean: e.mean.map(|m| m - c),
+        mean: [e.mean[0] - c[0], e.mean[1] - c[1], e.mean[2] - c[2]],
         ..e
     }
 }
@@ -105,7 +105,7 @@ fn compensation_returns_exactly_the_energy_the_table_misses() {
                 let ss = energy(single, theta, front, 100_000, seed);
                 let ms = energy(compensated, theta, front, 100_000, seed + 1);
                 let loss = 1.0 - table_albedo(single, theta, front);
-                assert_same(&minus(ms, loss), &ss, &what);
+                assert_same(&minus(ms, [loss; 3]), &ss, &what);
                 let k = k_sigma(1);
                 assert!(
                     ms.mean[0] + k * ms.std_error[0] >= 0.98,
@@ -114,6 +114,37 @@ fn compensation_returns_exactly_the_energy_the_table_misses() {
                     ms.std_error[0]
                 );
             }
+        }
+    }
+}
+
+/// A coloured conductor's compensation is tinted by F_avg² E_avg / (1 −
+/// F_avg (1 − E_avg)), with Schlick's F_avg = F0 + (1 − F0)/21.
+#[test]
+fn coloured_conductor_compensation_has_the_fresnel_tint() {
+    let f0 = [0.9f64, 0.5, 0.1];
+    let fresnel = ConductorFresnel::Schlick {
+        f0: Rgb::new(f0[0] as f32, f0[1] as f32, f0[2] as f32),
+    };
+    let mut seed = 300;
+    for alpha in [0.3f32, 0.8] {
+        for theta in [20.0f32, 70.0] {
+            let m = |multiscatter| Material::Conductor {
+                alpha,
+                fresnel,
+                multiscatter,
+            };
+            seed += 2;
+            let ss = energy(m(false), theta, true, 100_000, seed);
+            let ms = energy(m(true), theta, true, 100_000, seed + 1);
+            let loss = 1.0 - table_albedo(m(false), theta, true);
+            let e_avg = albedo::conductor_average(alpha) as f64;
+            let tint = f0.map(|f0| {
+                let f_avg = f0 + (1.0 - f0) / 21.0;
+                f_avg * f_avg * e_avg / (1.0 - f_avg * (1.0 - e_avg))
+            });
+            let added = tint.map(|t| t * loss);
+            assert_same(&minus(ms, added), &ss, &format!("α {alpha} θ {theta}"));
         }
     }
 }
