@@ -241,6 +241,11 @@ fn white_rough_conductor_sphere_shows_its_albedo_through_nee_and_mis() {
 
 #[test]
 fn bad_material_keys_name_the_key() {
+    // Without compensation any index is fine.
+    let ok = "{ type = \"dielectric\", alpha = 0.3, ior = 4.0, multiscatter = false }";
+    let desc = brume::scene::parse(&furnace_scene(ok), std::path::Path::new("m.toml")).unwrap();
+    brume::scene::build(&desc, std::path::Path::new("m.toml"), std::path::Path::new("."))
+        .unwrap();
     let file = std::path::Path::new("mat.toml");
     for (material, key) in [
         (
@@ -263,15 +268,25 @@ fn bad_material_keys_name_the_key() {
         ),
         ("{ type = \"conductor\", f0 = 1.5 }", "shape[0].material.f0"),
         (
+            "{ type = \"conductor\", alpha = 0.3, f0 = 0.9, multiscatter = \"yes\" }",
+            "shape[0].material.multiscatter: expected true or false",
+        ),
+        (
+            "{ type = \"dielectric\", alpha = 0.3, ior = 4.0 }",
+            "shape[0].material.ior: 4 is outside 1/3..3, where the energy compensation",
+        ),
+        (
             "{ type = \"mirror\" }\ninterior = { type = \"homogeneous\", sigma_t = 1.0 }",
             "shape[0].material: a shape with an interior needs a dielectric material",
         ),
     ] {
-        let desc = brume::scene::parse(&furnace_scene(material), file).unwrap();
-        let err = brume::scene::build(&desc, file, std::path::Path::new("."))
-            .err()
-            .unwrap_or_else(|| panic!("{material} accepted"))
-            .to_string();
+        let err = match brume::scene::parse(&furnace_scene(material), file) {
+            Ok(desc) => brume::scene::build(&desc, file, std::path::Path::new("."))
+                .err()
+                .unwrap_or_else(|| panic!("{material} accepted"))
+                .to_string(),
+            Err(e) => e.to_string(),
+        };
         assert!(err.contains(key), "{material}: {err}");
     }
 }
