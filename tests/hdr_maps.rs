@@ -45,7 +45,11 @@ fn rgbe(c: Rgb) -> [u8; 4] {
 fn rle_component(bytes: &[u8], out: &mut Vec<u8>) {
     let mut i = 0;
     while i < bytes.len() {
-        let run = bytes[i..].iter().take(127).take_while(|&&b| b == bytes[i]).count();
+        let run = bytes[i..]
+            .iter()
+            .take(127)
+            .take_while(|&&b| b == bytes[i])
+            .count();
         if run >= 3 {
             out.extend([128 + run as u8, bytes[i]]);
             i += run;
@@ -53,7 +57,11 @@ fn rle_component(bytes: &[u8], out: &mut Vec<u8>) {
         }
         let start = i;
         while i < bytes.len() && i - start < 128 {
-            let ahead = bytes[i..].iter().take(3).take_while(|&&b| b == bytes[i]).count();
+            let ahead = bytes[i..]
+                .iter()
+                .take(3)
+                .take_while(|&&b| b == bytes[i])
+                .count();
             if ahead >= 3 {
                 break;
             }
@@ -66,9 +74,8 @@ fn rle_component(bytes: &[u8], out: &mut Vec<u8>) {
 
 /// A `.hdr` file of the map, scanlines run-length encoded or flat, with `header` lines.
 fn hdr_bytes(width: usize, height: usize, pixels: &[Rgb], rle: bool, header: &str) -> Vec<u8> {
-    let mut out =
-        format!("#?RADIANCE\n{header}FORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n")
-            .into_bytes();
+    let mut out = format!("#?RADIANCE\n{header}FORMAT=32-bit_rle_rgbe\n\n-Y {height} +X {width}\n")
+        .into_bytes();
     for row in pixels.chunks(width) {
         let px: Vec<[u8; 4]> = row.iter().map(|&c| rgbe(c)).collect();
         if rle {
@@ -94,7 +101,11 @@ fn write_both(dir: &Path, width: usize, height: usize) -> Vec<Rgb> {
         partial: false,
     };
     write_exr(&dir.join("map.exr"), &image).unwrap();
-    std::fs::write(dir.join("map.hdr"), hdr_bytes(width, height, &pixels, true, "")).unwrap();
+    std::fs::write(
+        dir.join("map.hdr"),
+        hdr_bytes(width, height, &pixels, true, ""),
+    )
+    .unwrap();
     let flat = hdr_bytes(width, height, &pixels, false, "EXPOSURE=1.0\n");
     std::fs::write(dir.join("flat.hdr"), flat).unwrap();
     pixels
@@ -122,8 +133,13 @@ fn hdr_reads_like_the_same_map_written_as_exr() {
     let (ew, eh, exr) = read_exr(&dir.path().join("map.exr")).unwrap();
     assert_eq!((ew, eh), (w, h));
     let rle_len = std::fs::metadata(dir.path().join("map.hdr")).unwrap().len();
-    let flat_len = std::fs::metadata(dir.path().join("flat.hdr")).unwrap().len();
-    assert!(rle_len < flat_len, "the RLE file is compressed: {rle_len} vs {flat_len}");
+    let flat_len = std::fs::metadata(dir.path().join("flat.hdr"))
+        .unwrap()
+        .len();
+    assert!(
+        rle_len < flat_len,
+        "the RLE file is compressed: {rle_len} vs {flat_len}"
+    );
     for name in ["map.hdr", "flat.hdr"] {
         let (hw, hh, hdr) = read_hdr(&dir.path().join(name)).unwrap();
         assert_eq!((hw, hh), (w, h), "{name}");
@@ -189,7 +205,11 @@ fn damaged_hdr_files_are_refused_with_one_line() {
     let header_end = good.windows(2).position(|p| p == b"\n-").unwrap() + 1;
     let header_len = header_end + format!("-Y {h} +X {w}\n").len();
     let cases: Vec<(&str, Vec<u8>, &str)> = vec![
-        ("text", b"hello, world\n".to_vec(), "not a Radiance HDR image"),
+        (
+            "text",
+            b"hello, world\n".to_vec(),
+            "not a Radiance HDR image",
+        ),
         (
             "cut below what the size needs",
             good[..header_len + 100].to_vec(),

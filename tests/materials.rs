@@ -4,8 +4,8 @@
 mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
-use analytic_support::SceneText;
 use analytic_support::ggx::ggx_white_albedo;
+use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
 use brume::material::{ConductorFresnel, Material, Shading};
 use brume::math::color::Rgb;
@@ -244,8 +244,12 @@ fn bad_material_keys_name_the_key() {
     // Without compensation any index is fine.
     let ok = "{ type = \"dielectric\", alpha = 0.3, ior = 4.0, multiscatter = false }";
     let desc = brume::scene::parse(&furnace_scene(ok), std::path::Path::new("m.toml")).unwrap();
-    brume::scene::build(&desc, std::path::Path::new("m.toml"), std::path::Path::new("."))
-        .unwrap();
+    brume::scene::build(
+        &desc,
+        std::path::Path::new("m.toml"),
+        std::path::Path::new("."),
+    )
+    .unwrap();
     let file = std::path::Path::new("mat.toml");
     for (material, key) in [
         (

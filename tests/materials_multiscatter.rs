@@ -95,7 +95,11 @@ fn compensation_returns_exactly_the_energy_the_table_misses() {
     for alpha in [0.2f32, 0.37, 0.5, 0.63, 1.0] {
         for theta in [10.0f32, 50.0, 80.0] {
             let cases = [
-                (white_conductor(alpha, false), white_conductor(alpha, true), true),
+                (
+                    white_conductor(alpha, false),
+                    white_conductor(alpha, true),
+                    true,
+                ),
                 (glass(alpha, false), glass(alpha, true), true),
                 (glass(alpha, false), glass(alpha, true), false),
             ];
@@ -160,9 +164,21 @@ fn table_nodes_match_independent_estimates_of_the_single_scattering_albedo() {
         let (theta, alpha) = (node_theta(i), albedo::alpha_node(j));
         let table = table_albedo(white_conductor(alpha, false), theta, true);
         let reference = ggx_white_albedo(alpha as f64, (theta as f64).to_radians(), 96);
-        let e = energy(white_conductor(alpha, false), theta, true, 20_000, 90 + i as u64);
+        let e = energy(
+            white_conductor(alpha, false),
+            theta,
+            true,
+            20_000,
+            90 + i as u64,
+        );
         let table_se = e.std_error[0] * (e.n as f64).sqrt() / CONDUCTOR_STRATA as f64;
-        assert_within(table, table_se, reference, 1, &format!("conductor α {alpha} θ {theta}"));
+        assert_within(
+            table,
+            table_se,
+            reference,
+            1,
+            &format!("conductor α {alpha} θ {theta}"),
+        );
         for front in [true, false] {
             let m = glass(alpha, false);
             let table = table_albedo(m, theta, front);
@@ -222,7 +238,9 @@ fn rough_glass_furnace_sphere_keeps_its_energy_with_compensation() {
     let k = k_sigma(1);
     for alpha in [0.2f32, 0.5, 1.0] {
         let text = |ms: bool| {
-            format!("{{ type = \"dielectric\", ior = {IOR}, alpha = {alpha}, multiscatter = {ms} }}")
+            format!(
+                "{{ type = \"dielectric\", ior = {IOR}, alpha = {alpha}, multiscatter = {ms} }}"
+            )
         };
         let (single, compensated) = (furnace(&text(false)), furnace(&text(true)));
         for b in [0.0f32, 0.5, 0.85] {
@@ -230,7 +248,10 @@ fn rough_glass_furnace_sphere_keeps_its_energy_with_compensation() {
             let on = estimate_li(&compensated, ray_at(b), 20_000, 41);
             let (m, se) = (on.mean[0], on.std_error[0]);
             eprintln!("{what}: compensated {m:.4} ± {se:.4}");
-            assert!(m + k * se >= 0.98 && m - k * se <= 1.02, "{what}: {m} ± {se}");
+            assert!(
+                m + k * se >= 0.98 && m - k * se <= 1.02,
+                "{what}: {m} ± {se}"
+            );
             let off = estimate_li(&single, ray_at(b), 20_000, 42);
             let (m, se) = (off.mean[0], off.std_error[0]);
             eprintln!("{what}: single scattering {m:.4} ± {se:.4}");
@@ -278,7 +299,10 @@ fn compensated_sampling_follows_its_pdf() {
             },
             |d| m.pdf(&sp, wo, d),
         );
-        assert!(r.passes(0.01, cases.len()), "{m:?} θ {theta} front {front}: {r}");
+        assert!(
+            r.passes(0.01, cases.len()),
+            "{m:?} θ {theta} front {front}: {r}"
+        );
     }
 }
 
@@ -288,7 +312,11 @@ fn compensated_sampling_follows_its_pdf() {
 fn compensated_bsdfs_are_reciprocal() {
     let normal = Vec3::new(0.1, 0.3, 1.0).normalize();
     let mut s = Sampler::from_seed(77);
-    for m in [white_conductor(0.6, true), glass(0.4, true), glass(0.9, true)] {
+    for m in [
+        white_conductor(0.6, true),
+        glass(0.4, true),
+        glass(0.9, true),
+    ] {
         let mut checked = 0;
         for _ in 0..5000 {
             let wo = brume::sampling::warp::square_to_uniform_sphere(s.next_2d());

@@ -33,12 +33,12 @@ const MIN_LOSS: f32 = 1e-5;
 const GAUSS_8: [(f32, f32); 8] = [
     (0.019_855_072, 0.050_614_27),
     (0.101_666_76, 0.111_190_52),
-    (0.237_233_795, 0.156_853_32),
+    (0.237_233_79, 0.156_853_32),
     (0.408_282_68, 0.181_341_89),
     (0.591_717_3, 0.181_341_89),
     (0.762_766_2, 0.156_853_32),
     (0.898_333_24, 0.111_190_52),
-    (0.980_144_93, 0.050_614_27),
+    (0.980_144_9, 0.050_614_27),
 ];
 
 /// 2∫F(μ) μ dμ, the hemispherical average of a conductor's Fresnel reflectance.
@@ -46,9 +46,9 @@ pub fn fresnel_average(fresnel: &ConductorFresnel) -> Rgb {
     match *fresnel {
         // 2∫(1 − μ)⁵ μ dμ = 1/21.
         ConductorFresnel::Schlick { f0 } => f0 + (Rgb::WHITE - f0) * (1.0 / 21.0),
-        ConductorFresnel::Complex { .. } => GAUSS_8
-            .iter()
-            .fold(Rgb::BLACK, |acc, &(mu, w)| acc + fresnel.eval(mu) * (2.0 * w * mu)),
+        ConductorFresnel::Complex { .. } => GAUSS_8.iter().fold(Rgb::BLACK, |acc, &(mu, w)| {
+            acc + fresnel.eval(mu) * (2.0 * w * mu)
+        }),
     }
 }
 
@@ -170,10 +170,14 @@ struct DielectricMs {
 impl DielectricMs {
     fn new(alpha: f32, eta: f32, mu_o: f32) -> DielectricMs {
         let (side, ratio) = Side::of(eta);
-        let loss_avg = [side, side.other()]
-            .map(|s| 1.0 - albedo::dielectric_average(s, ratio, alpha));
+        let loss_avg =
+            [side, side.other()].map(|s| 1.0 - albedo::dielectric_average(s, ratio, alpha));
         let (t_enter, t_leave) = transmitted_shares(alpha, ratio);
-        let t = if side == Side::Enter { t_enter } else { t_leave };
+        let t = if side == Side::Enter {
+            t_enter
+        } else {
+            t_leave
+        };
         let on = |lobe: usize| loss_avg[lobe] >= MIN_LOSS;
         let share = [
             if on(0) { 1.0 - t } else { 0.0 },
@@ -201,13 +205,21 @@ impl DielectricMs {
         if self.share[lobe] == 0.0 || wi.z == 0.0 {
             return Rgb::BLACK;
         }
-        let side_i = if lobe == 0 { self.side } else { self.side.other() };
+        let side_i = if lobe == 0 {
+            self.side
+        } else {
+            self.side.other()
+        };
         let mu_i = wi.z.abs();
         let loss_i = 1.0 - albedo::dielectric(side_i, self.ratio, mu_i, self.alpha);
         let energy = self.share[lobe] * self.loss_o * loss_i.max(0.0) * mu_i * FRAC_1_PI
             / self.loss_avg[lobe];
         // Radiance is compressed by (η_wo / η_wi)² on the way through.
-        Rgb::splat(if lobe == 1 { energy / (eta * eta) } else { energy })
+        Rgb::splat(if lobe == 1 {
+            energy / (eta * eta)
+        } else {
+            energy
+        })
     }
 
     fn pdf(&self, wi: Vec3) -> f32 {

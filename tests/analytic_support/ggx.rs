@@ -37,4 +37,3 @@ pub fn ggx_white_albedo(alpha: f64, theta_o: f64, panels: usize) -> f64 {
         panels,
     )
 }
-

@@ -112,10 +112,7 @@ pub fn rgbe_to_rgb(p: [u8; 4]) -> Rgb {
 
 /// Reads one run-length-encoded scanline (its 4-byte header already read)
 /// into `row`, one component at a time.
-fn read_rle_scanline(
-    r: &mut impl Read,
-    row: &mut [[u8; 4]],
-) -> std::result::Result<(), String> {
+fn read_rle_scanline(r: &mut impl Read, row: &mut [[u8; 4]]) -> std::result::Result<(), String> {
     let width = row.len();
     for c in 0..4 {
         let mut x = 0;
@@ -161,7 +158,9 @@ fn read_flat_scanline(
         r.read_exact(p).map_err(|_| truncated())?;
     }
     if row.iter().any(|p| p[..3] == [1, 1, 1]) {
-        return Err("uses the old (Radiance 1) run-length encoding, which brume does not read".into());
+        return Err(
+            "uses the old (Radiance 1) run-length encoding, which brume does not read".into(),
+        );
     }
     Ok(())
 }
@@ -182,7 +181,9 @@ pub fn read_hdr(path: &Path) -> Result<(usize, usize, Vec<Rgb>)> {
     let least = header_len as u128 + least_data(w128, h128);
     if file_len < least {
         let packing = if (8..=0x7fff).contains(&w) {
-            format!("run-length encoding packs at most {MAX_RUN} pixels of a component into 2 bytes")
+            format!(
+                "run-length encoding packs at most {MAX_RUN} pixels of a component into 2 bytes"
+            )
         } else {
             "scanlines of this width are stored flat, 4 bytes a pixel".to_string()
         };
@@ -223,7 +224,10 @@ mod tests {
     fn resolution_lines() {
         assert_eq!(parse_resolution("-Y 3 +X 5"), Ok((5, 3)));
         let e = parse_resolution("+Y 3 +X 5").unwrap_err();
-        assert!(e.contains("orientation `+Y 3 +X 5` is not supported"), "{e}");
+        assert!(
+            e.contains("orientation `+Y 3 +X 5` is not supported"),
+            "{e}"
+        );
         assert!(parse_resolution("-Y 0 +X 5").is_err());
         assert!(parse_resolution("-Y x +X 5").is_err());
     }
