@@ -4,16 +4,15 @@
 mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
+use analytic_support::ggx::ggx_white_albedo;
 use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
 use brume::material::{ConductorFresnel, Material, Shading};
 use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
 use brume::sampling::chi2::{Chi2Result, SphereChi2};
-use brume::sampling::quadrature::gauss_legendre;
 use brume::sampling::Sampler;
 use std::cell::RefCell;
-use std::f64::consts::PI;
 
 const ALPHA: f64 = 0.01;
 /// 3 conductor roughnesses × 3 angles + 2 dielectric roughnesses × 2 angles × 2 sides × 2 iors.
@@ -52,7 +51,11 @@ fn rough_conductor_sampling_follows_its_pdf() {
     };
     for (i, alpha) in [0.1, 0.4, 1.0].into_iter().enumerate() {
         for (j, theta) in [0.0, 40.0, 80.0].into_iter().enumerate() {
-            let m = Material::Conductor { alpha, fresnel };
+            let m = Material::Conductor {
+                alpha,
+                fresnel,
+                multiscatter: false,
+            };
             let r = chi2_of(m, direction(theta), true, (10 * i + j) as u64);
             assert_chi2(&format!("conductor α {alpha} θ {theta}"), &r);
         }
@@ -67,7 +70,11 @@ fn rough_dielectric_sampling_follows_its_pdf_on_both_sides() {
             for front in [true, false] {
                 for ior in [1.5, 1.1] {
                     seed += 1;
-                    let m = Material::Dielectric { ior, alpha };
+                    let m = Material::Dielectric {
+                        ior,
+                        alpha,
+                        multiscatter: false,
+                    };
                     let wo = if front {
                         direction(theta)
                     } else {
@@ -82,41 +89,6 @@ fn rough_dielectric_sampling_follows_its_pdf_on_both_sides() {
             }
         }
     }
-}
-
-/// GGX single-scattering albedo of a white (F = 1) conductor, by 2-D
-/// Gauss–Legendre quadrature of D G2 / (4 cos θo) over the hemisphere, in f64
-/// and with its own D and Λ (not brume's).
-fn ggx_white_albedo(alpha: f64, theta_o: f64, panels: usize) -> f64 {
-    let a2 = alpha * alpha;
-    let lambda = |cos: f64| {
-        let tan2 = (1.0 - cos * cos) / (cos * cos);
-        0.5 * ((1.0 + a2 * tan2).sqrt() - 1.0)
-    };
-    let wo = [theta_o.sin(), 0.0, theta_o.cos()];
-    gauss_legendre(
-        |mu| {
-            gauss_legendre(
-                |phi| {
-                    let s = (1.0 - mu * mu).sqrt();
-                    let wi = [s * phi.cos(), s * phi.sin(), mu];
-                    let h = [wo[0] + wi[0], wo[1] + wi[1], wo[2] + wi[2]];
-                    let len = (h[0] * h[0] + h[1] * h[1] + h[2] * h[2]).sqrt();
-                    let hz = h[2] / len;
-                    let t = hz * hz * (a2 - 1.0) + 1.0;
-                    let d = a2 / (PI * t * t);
-                    let g2 = 1.0 / (1.0 + lambda(wo[2]) + lambda(mu));
-                    d * g2 / (4.0 * wo[2])
-                },
-                0.0,
-                2.0 * PI,
-                panels,
-            )
-        },
-        0.0,
-        1.0,
-        panels,
-    )
 }
 
 #[test]
@@ -134,6 +106,7 @@ fn white_rough_conductor_reflects_its_single_scattering_albedo() {
             let m = Material::Conductor {
                 alpha: alpha as f32,
                 fresnel: ConductorFresnel::Schlick { f0: Rgb::WHITE },
+                multiscatter: false,
             };
             let wo = direction(theta_deg as f32);
             let sp = Shading::facing(Vec3::Z, wo);
@@ -164,7 +137,11 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
         (0.8, 60.0, true),
         (0.3, 50.0, false),
     ] {
-        let m = Material::Dielectric { ior: 1.5, alpha };
+        let m = Material::Dielectric {
+            ior: 1.5,
+            alpha,
+            multiscatter: false,
+        };
         let eta: f32 = if front { 1.5 } else { 1.0 / 1.5 };
         let wo = if front {
             direction(theta)
@@ -192,6 +169,7 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
     let m = Material::Dielectric {
         ior: 1.5,
         alpha: 0.002,
+        multiscatter: false,
     };
     for theta in [0.0f32, 45.0, 80.0] {
         let wo = direction(theta);
@@ -250,7 +228,7 @@ fn white_rough_conductor_sphere_shows_its_albedo_through_nee_and_mis() {
     // sampling combined by MIS.
     let alpha = 0.5;
     let scene = scene_from_str(&furnace_scene(&format!(
-        "{{ type = \"conductor\", alpha = {alpha}, f0 = 1.0 }}"
+        "{{ type = \"conductor\", alpha = {alpha}, f0 = 1.0, multiscatter = false }}"
     )));
     for b in [0.0f32, 0.6, 0.9] {
         let ray = Ray::new(Vec3::new(b, 0.0, 4.0), -Vec3::Z);
@@ -263,6 +241,15 @@ fn white_rough_conductor_sphere_shows_its_albedo_through_nee_and_mis() {
 
 #[test]
 fn bad_material_keys_name_the_key() {
+    // Without compensation any index is fine.
+    let ok = "{ type = \"dielectric\", alpha = 0.3, ior = 4.0, multiscatter = false }";
+    let desc = brume::scene::parse(&furnace_scene(ok), std::path::Path::new("m.toml")).unwrap();
+    brume::scene::build(
+        &desc,
+        std::path::Path::new("m.toml"),
+        std::path::Path::new("."),
+    )
+    .unwrap();
     let file = std::path::Path::new("mat.toml");
     for (material, key) in [
         (
@@ -285,15 +272,25 @@ fn bad_material_keys_name_the_key() {
         ),
         ("{ type = \"conductor\", f0 = 1.5 }", "shape[0].material.f0"),
         (
+            "{ type = \"conductor\", alpha = 0.3, f0 = 0.9, multiscatter = \"yes\" }",
+            "shape[0].material.multiscatter: expected true or false",
+        ),
+        (
+            "{ type = \"dielectric\", alpha = 0.3, ior = 4.0 }",
+            "shape[0].material.ior: 4 is outside 1/3..3, where the energy compensation",
+        ),
+        (
             "{ type = \"mirror\" }\ninterior = { type = \"homogeneous\", sigma_t = 1.0 }",
             "shape[0].material: a shape with an interior needs a dielectric material",
         ),
     ] {
-        let desc = brume::scene::parse(&furnace_scene(material), file).unwrap();
-        let err = brume::scene::build(&desc, file, std::path::Path::new("."))
-            .err()
-            .unwrap_or_else(|| panic!("{material} accepted"))
-            .to_string();
+        let err = match brume::scene::parse(&furnace_scene(material), file) {
+            Ok(desc) => brume::scene::build(&desc, file, std::path::Path::new("."))
+                .err()
+                .unwrap_or_else(|| panic!("{material} accepted"))
+                .to_string(),
+            Err(e) => e.to_string(),
+        };
         assert!(err.contains(key), "{material}: {err}");
     }
 }

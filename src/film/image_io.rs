@@ -38,6 +38,8 @@ fn set_pending(tmp: &Path, pending: bool) {
 }
 
 mod film_exr;
+mod hdr;
+pub use hdr::{read_hdr, rgbe_to_rgb};
 mod header;
 mod png_write;
 pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_beauty, write_film_exr_with};

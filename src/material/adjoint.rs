@@ -90,12 +90,26 @@ mod tests {
             Material::Dielectric {
                 ior: 1.5,
                 alpha: 0.3,
+                multiscatter: false,
             },
             Material::Conductor {
                 alpha: 0.2,
                 fresnel: ConductorFresnel::Schlick {
                     f0: Rgb::new(0.9, 0.6, 0.3),
                 },
+                multiscatter: false,
+            },
+            Material::Dielectric {
+                ior: 1.5,
+                alpha: 0.6,
+                multiscatter: true,
+            },
+            Material::Conductor {
+                alpha: 0.7,
+                fresnel: ConductorFresnel::Schlick {
+                    f0: Rgb::new(0.9, 0.6, 0.3),
+                },
+                multiscatter: true,
             },
         ];
         let mut s = Sampler::from_seed(11);
@@ -133,6 +147,7 @@ mod tests {
         let glass = Material::Dielectric {
             ior: 1.5,
             alpha: 0.0,
+            multiscatter: false,
         };
         let n = Vec3::Y;
         let inside = Vec3::new(0.3, -1.0, 0.0).normalize();

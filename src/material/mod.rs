@@ -9,8 +9,11 @@
 mod adjoint;
 pub mod texture;
 
+pub mod albedo;
+pub mod albedo_estimate;
 pub mod fresnel;
 pub mod microfacet;
+pub mod multiscatter;
 mod rough;
 
 use crate::math::color::Rgb;
@@ -95,6 +98,8 @@ pub enum Material {
         ior: f32,
         /// GGX α of the surface; 0 is a smooth (delta) interface.
         alpha: f32,
+        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]).
+        multiscatter: bool,
     },
     /// A metal: Fresnel-weighted reflection off a smooth or GGX-rough surface.
     Conductor {
@@ -102,6 +107,8 @@ pub enum Material {
         alpha: f32,
         /// Reflectance model.
         fresnel: ConductorFresnel,
+        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]).
+        multiscatter: bool,
     },
 }
 
@@ -160,9 +167,11 @@ impl Material {
             Material::Conductor {
                 alpha,
                 fresnel: ConductorFresnel::Schlick { .. },
+                multiscatter,
             } => Material::Conductor {
                 alpha,
                 fresnel: ConductorFresnel::Schlick { f0: color },
+                multiscatter,
             },
             other => other,
         }
@@ -181,19 +190,32 @@ impl Material {
                 let cos_alpha = reflect(wo, n).dot(wi).max(0.0);
                 albedo * ((exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(exponent) * cos_i)
             }
-            Material::Dielectric { ior, alpha } => {
+            Material::Dielectric {
+                ior,
+                alpha,
+                multiscatter,
+            } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                rough::dielectric_eval(Ggx { alpha }, relative_eta(ior, sp), lo, li)
+                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
+                if multiscatter {
+                    multiscatter::dielectric_eval(ggx, eta, lo, li)
+                } else {
+                    rough::dielectric_eval(ggx, eta, lo, li)
+                }
             }
-            Material::Conductor { alpha, fresnel } => {
+            Material::Conductor {
+                alpha,
+                fresnel,
+                multiscatter,
+            } => {
                 let frame = Frame::from_z(n);
-                rough::conductor_eval(
-                    Ggx { alpha },
-                    &fresnel,
-                    frame.to_local(wo),
-                    frame.to_local(wi),
-                )
+                let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
+                if multiscatter {
+                    multiscatter::conductor_eval(Ggx { alpha }, &fresnel, lo, li)
+                } else {
+                    rough::conductor_eval(Ggx { alpha }, &fresnel, lo, li)
+                }
             }
             _ => Rgb::BLACK,
         }
@@ -212,14 +234,32 @@ impl Material {
                 let cos_alpha = reflect(wo, n).dot(wi).max(0.0);
                 (exponent + 1.0) / (2.0 * PI) * cos_alpha.powf(exponent)
             }
-            Material::Dielectric { ior, alpha } => {
+            Material::Dielectric {
+                ior,
+                alpha,
+                multiscatter,
+            } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                rough::dielectric_pdf(Ggx { alpha }, relative_eta(ior, sp), lo, li)
+                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
+                if multiscatter {
+                    multiscatter::dielectric_pdf(ggx, eta, lo, li)
+                } else {
+                    rough::dielectric_pdf(ggx, eta, lo, li)
+                }
             }
-            Material::Conductor { alpha, .. } => {
+            Material::Conductor {
+                alpha,
+                multiscatter,
+                ..
+            } => {
                 let frame = Frame::from_z(n);
-                rough::conductor_pdf(Ggx { alpha }, frame.to_local(wo), frame.to_local(wi))
+                let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
+                if multiscatter {
+                    multiscatter::conductor_pdf(Ggx { alpha }, lo, li)
+                } else {
+                    rough::conductor_pdf(Ggx { alpha }, lo, li)
+                }
             }
             _ => 0.0,
         }
@@ -251,38 +291,54 @@ impl Material {
                 pdf: 1.0,
                 is_delta: true,
             }),
-            Material::Dielectric { ior, alpha } if alpha < MIN_ALPHA => {
+            Material::Dielectric { ior, alpha, .. } if alpha < MIN_ALPHA => {
                 sample_smooth_dielectric(relative_eta(ior, sp), n, wo, u_lobe)
             }
-            Material::Conductor { alpha, fresnel } if alpha < MIN_ALPHA => Some(BsdfSample {
+            Material::Conductor { alpha, fresnel, .. } if alpha < MIN_ALPHA => Some(BsdfSample {
                 wi: reflect(wo, n),
                 weight: fresnel.eval(n.dot(wo)),
                 pdf: 1.0,
                 is_delta: true,
             }),
-            Material::Dielectric { ior, alpha } => {
+            Material::Dielectric {
+                ior,
+                alpha,
+                multiscatter,
+            } => {
                 let frame = Frame::from_z(n);
-                let eta = relative_eta(ior, sp);
-                let s =
-                    rough::dielectric_sample(Ggx { alpha }, eta, frame.to_local(wo), u, u_lobe)?;
-                Some(BsdfSample {
-                    wi: frame.to_world(s.wi),
-                    weight: s.weight,
-                    pdf: s.pdf,
-                    is_delta: false,
-                })
+                let (ggx, eta, lo) = (Ggx { alpha }, relative_eta(ior, sp), frame.to_local(wo));
+                let s = if multiscatter {
+                    multiscatter::dielectric_sample(ggx, eta, lo, u, u_lobe)
+                } else {
+                    rough::dielectric_sample(ggx, eta, lo, u, u_lobe)
+                }?;
+                Some(to_world(&frame, s))
             }
-            Material::Conductor { alpha, fresnel } => {
+            Material::Conductor {
+                alpha,
+                fresnel,
+                multiscatter,
+            } => {
                 let frame = Frame::from_z(n);
-                let s = rough::conductor_sample(Ggx { alpha }, &fresnel, frame.to_local(wo), u)?;
-                Some(BsdfSample {
-                    wi: frame.to_world(s.wi),
-                    weight: s.weight,
-                    pdf: s.pdf,
-                    is_delta: false,
-                })
+                let (ggx, lo) = (Ggx { alpha }, frame.to_local(wo));
+                let s = if multiscatter {
+                    multiscatter::conductor_sample(ggx, &fresnel, lo, u, u_lobe)
+                } else {
+                    rough::conductor_sample(ggx, &fresnel, lo, u)
+                }?;
+                Some(to_world(&frame, s))
             }
         }
+    }
+}
+
+/// A rough lobe's local sample in world space.
+fn to_world(frame: &Frame, s: rough::LocalSample) -> BsdfSample {
+    BsdfSample {
+        wi: frame.to_world(s.wi),
+        weight: s.weight,
+        pdf: s.pdf,
+        is_delta: false,
     }
 }
 

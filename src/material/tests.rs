@@ -49,16 +49,23 @@ fn sampling_matches_eval_and_pdf() {
             exponent,
         });
     }
-    for alpha in [0.01, 0.1, 0.4, 1.0] {
-        check_consistency(Material::Conductor {
-            alpha,
-            fresnel: ConductorFresnel::Complex {
-                eta: Rgb::new(0.2, 0.9, 1.1),
-                k: Rgb::new(3.9, 2.4, 2.2),
-            },
-        });
-        for ior in [1.5, 1.1, 2.4] {
-            check_consistency(Material::Dielectric { ior, alpha });
+    for multiscatter in [false, true] {
+        for alpha in [0.01, 0.1, 0.4, 1.0] {
+            check_consistency(Material::Conductor {
+                alpha,
+                fresnel: ConductorFresnel::Complex {
+                    eta: Rgb::new(0.2, 0.9, 1.1),
+                    k: Rgb::new(3.9, 2.4, 2.2),
+                },
+                multiscatter,
+            });
+            for ior in [1.5, 1.1, 2.4] {
+                check_consistency(Material::Dielectric {
+                    ior,
+                    alpha,
+                    multiscatter,
+                });
+            }
         }
     }
 }

@@ -230,12 +230,24 @@ fn build_material(
         Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
             reflectance: color("reflectance", reflectance)?,
         },
-        Some(MaterialDesc::Dielectric { ior, alpha }) => {
-            materials::dielectric(check, &field, *ior, *alpha)?
-        }
-        Some(MaterialDesc::Conductor { alpha, eta, k, f0 }) => {
+        Some(MaterialDesc::Dielectric {
+            ior,
+            alpha,
+            multiscatter,
+        }) => materials::dielectric(check, &field, *ior, *alpha, *multiscatter)?,
+        Some(MaterialDesc::Conductor {
+            alpha,
+            eta,
+            k,
+            f0,
+            multiscatter,
+        }) => {
             let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
-            materials::conductor(check, &field, *alpha, *eta, *k, f0)?
+            let rough = materials::Rough {
+                alpha: *alpha,
+                multiscatter: *multiscatter,
+            };
+            materials::conductor(check, &field, rough, *eta, *k, f0)?
         }
     };
     Ok((material, texture))

@@ -521,6 +521,9 @@ pub enum MaterialDesc {
         /// GGX α (0 = smooth).
         #[serde(default)]
         alpha: f32,
+        /// Energy compensation of a rough surface (false: single scattering only).
+        #[serde(default = "default_true")]
+        multiscatter: bool,
     },
     /// Metal: smooth (alpha = 0) or GGX-rough, with a complex index or a Schlick F0.
     Conductor {
@@ -536,6 +539,9 @@ pub enum MaterialDesc {
         /// Reflectance at normal incidence (Schlick), instead of eta and k.
         #[serde(default)]
         f0: Option<ColorOrTexture>,
+        /// Energy compensation of a rough surface (false: single scattering only).
+        #[serde(default = "default_true")]
+        multiscatter: bool,
     },
 }
 

@@ -1,4 +1,4 @@
-//! `type = "environment_map"` lights: reading the EXR and checking its texels.
+//! `type = "environment_map"` lights: reading the EXR or Radiance HDR and checking its texels.
 
 use super::description::Color;
 use super::files::{check_input, Format};
@@ -20,19 +20,19 @@ pub(super) fn build(
 ) -> Result<EnvMap> {
     let file_field = format!("{field}.file");
     let what = "environment map";
-    check_input(
-        check,
-        &file_field,
-        what,
-        path,
-        Format::Exr,
-        MAX_TEXTURE_BYTES,
-    )?;
-    let (width, height, texels) = crate::film::image_io::read_exr(path).map_err(|e| {
-        let message = match e {
-            crate::error::Error::Input { message, .. } => message,
-            other => other.to_string(),
-        };
+    // Radiance files by their extension; anything else must be an EXR.
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let format = match ext.to_ascii_lowercase().as_str() {
+        "hdr" | "pic" => Format::Hdr,
+        _ => Format::Exr,
+    };
+    check_input(check, &file_field, what, path, format, MAX_TEXTURE_BYTES)?;
+    let read = match format {
+        Format::Hdr => crate::film::image_io::read_hdr(path),
+        _ => crate::film::image_io::read_exr(path),
+    };
+    let (width, height, texels) = read.map_err(|e| {
+        let message = super::files::input_message(e);
         check.error(
             &file_field,
             format!("cannot read {what} {}: {message}", path.display()),

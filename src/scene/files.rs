@@ -15,6 +15,8 @@ pub(super) enum Format {
     Exr,
     /// PNG image.
     Png,
+    /// Radiance RGBE image (`.hdr`).
+    Hdr,
     /// OpenVDB volume.
     Vdb,
     /// Wavefront OBJ mesh (text).
@@ -23,6 +25,8 @@ pub(super) enum Format {
 
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 const PNG_MAGIC: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+/// The two signatures Radiance writers start a file with.
+const HDR_MAGICS: [&[u8]; 2] = [b"#?RADIANCE", b"#?RGBE"];
 /// The OpenVDB magic number 0x56444220, little-endian.
 const VDB_MAGIC: [u8; 4] = [0x20, 0x42, 0x44, 0x56];
 
@@ -31,6 +35,7 @@ impl Format {
         match self {
             Format::Exr => "an EXR image",
             Format::Png => "a PNG image",
+            Format::Hdr => "a Radiance HDR image",
             Format::Vdb => "an OpenVDB file",
             Format::Obj => "a Wavefront OBJ file (text)",
         }
@@ -44,6 +49,8 @@ impl Format {
             Some(Format::Png)
         } else if head.starts_with(&VDB_MAGIC) {
             Some(Format::Vdb)
+        } else if HDR_MAGICS.iter().any(|m| head.starts_with(m)) {
+            Some(Format::Hdr)
         } else {
             None
         }
@@ -75,6 +82,14 @@ fn describe(head: &[u8]) -> String {
         "data of an unknown kind (its first bytes are {})",
         bytes.join(" ")
     )
+}
+
+/// The message of a reader's error, without the path (the caller names it).
+pub(super) fn input_message(e: crate::error::Error) -> String {
+    match e {
+        crate::error::Error::Input { message, .. } => message,
+        other => other.to_string(),
+    }
 }
 
 /// Refuses `path`, named by key `field` as a `what` ("environment map"),

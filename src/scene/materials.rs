@@ -3,6 +3,7 @@
 use super::description::Color;
 use super::validate::Check;
 use crate::error::Result;
+use crate::material::albedo::ETA_MAX;
 use crate::material::{ConductorFresnel, Material, MIN_ALPHA};
 use crate::math::color::Rgb;
 
@@ -19,19 +20,47 @@ fn alpha(check: &Check, field: &str, a: f32) -> Result<f32> {
     }
 }
 
-/// `{ type = "dielectric", ior, alpha }`.
-pub(super) fn dielectric(check: &Check, field: &str, ior: f32, a: f32) -> Result<Material> {
+/// The roughness keys shared by rough materials.
+#[derive(Clone, Copy)]
+pub(super) struct Rough {
+    /// GGX α as written.
+    pub alpha: f32,
+    /// `multiscatter` as written (default true).
+    pub multiscatter: bool,
+}
+
+/// `{ type = "dielectric", ior, alpha, multiscatter }`.
+pub(super) fn dielectric(
+    check: &Check,
+    field: &str,
+    ior: f32,
+    a: f32,
+    multiscatter: bool,
+) -> Result<Material> {
+    let ior = check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?;
+    let alpha = alpha(check, &format!("{field}.alpha"), a)?;
+    // The compensation's albedo tables cover index ratios 1/ETA_MAX..ETA_MAX.
+    let tabulated = (1.0 / ETA_MAX..=ETA_MAX).contains(&ior);
+    if multiscatter && alpha > 0.0 && !tabulated {
+        return Err(check.error(
+            &format!("{field}.ior"),
+            format!(
+                "{ior} is outside 1/{ETA_MAX}..{ETA_MAX}, where the energy compensation of a rough dielectric is tabulated; set `multiscatter = false` to use the single-scattering lobe alone"
+            ),
+        ));
+    }
     Ok(Material::Dielectric {
-        ior: check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?,
-        alpha: alpha(check, &format!("{field}.alpha"), a)?,
+        ior,
+        alpha,
+        multiscatter,
     })
 }
 
-/// `{ type = "conductor", alpha, eta + k | f0 }`.
+/// `{ type = "conductor", alpha, eta + k | f0, multiscatter }`.
 pub(super) fn conductor(
     check: &Check,
     field: &str,
-    a: f32,
+    rough: Rough,
     eta: Option<Color>,
     k: Option<Color>,
     f0: Option<Rgb>,
@@ -66,8 +95,9 @@ pub(super) fn conductor(
         }
     };
     Ok(Material::Conductor {
-        alpha: alpha(check, &f("alpha"), a)?,
+        alpha: alpha(check, &f("alpha"), rough.alpha)?,
         fresnel,
+        multiscatter: rough.multiscatter,
     })
 }
 

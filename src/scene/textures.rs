@@ -157,8 +157,8 @@ fn image(
             format!("cannot read texture {}: {problem}", path.display()),
         ));
     }
-    let exr = is_exr(check, &file_field, &path)?;
-    let srgb = is_srgb(check, field, desc, exr)?;
+    let format = image_format(check, &file_field, &path)?;
+    let srgb = is_srgb(check, field, desc, format != Format::Png)?;
     let key = (path.clone(), wrap, srgb);
     if let Some((_, image)) = cache.images.iter().find(|(k, _)| *k == key) {
         return Ok(image.clone());
@@ -169,7 +169,6 @@ fn image(
             format!("cannot read texture {}: {message}", path.display()),
         )
     };
-    let format = if exr { Format::Exr } else { Format::Png };
     check_input(
         check,
         &file_field,
@@ -178,10 +177,11 @@ fn image(
         format,
         MAX_TEXTURE_BYTES,
     )?;
-    let (width, height, texels) = if exr {
-        read_exr_texels(&path).map_err(read_error)?
-    } else {
-        read_png_texels(&path, srgb).map_err(read_error)?
+    let (width, height, texels) = match format {
+        Format::Exr => read_exr_texels(&path).map_err(read_error)?,
+        Format::Hdr => crate::film::image_io::read_hdr(&path)
+            .map_err(|e| read_error(super::files::input_message(e)))?,
+        _ => read_png_texels(&path, srgb).map_err(read_error)?,
     };
     check_finite_texels(check, &file_field, &path, width, &texels)?;
     let image = Arc::new(
@@ -214,14 +214,19 @@ fn check_scaled_overflow(
     )
 }
 
-/// Whether the texture at `path` is EXR (else PNG), by its extension; other files are refused.
-fn is_exr(check: &Check, file_field: &str, path: &Path) -> Result<bool> {
-    match path.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("exr") => Ok(true),
-        Some(e) if e.eq_ignore_ascii_case("png") => Ok(false),
+/// The image format of the texture at `path`, by its extension; other files are refused.
+fn image_format(check: &Check, file_field: &str, path: &Path) -> Result<Format> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    match ext.to_ascii_lowercase().as_str() {
+        "exr" => Ok(Format::Exr),
+        "png" => Ok(Format::Png),
+        "hdr" | "pic" => Ok(Format::Hdr),
         _ => Err(check.error(
             file_field,
-            format!("texture {} is not a .png or .exr file", path.display()),
+            format!(
+                "texture {} is not a .png, .exr or .hdr file",
+                path.display()
+            ),
         )),
     }
 }
@@ -239,14 +244,14 @@ fn wrap_mode(check: &Check, field: &str, desc: &TextureDesc) -> Result<Wrap> {
 }
 
 /// Whether the texels are sRGB-encoded: `color_space`, else PNG yes and EXR no.
-fn is_srgb(check: &Check, field: &str, desc: &TextureDesc, exr: bool) -> Result<bool> {
-    match (desc.color_space.as_deref(), exr) {
-        (None, exr) => Ok(!exr),
+fn is_srgb(check: &Check, field: &str, desc: &TextureDesc, linear: bool) -> Result<bool> {
+    match (desc.color_space.as_deref(), linear) {
+        (None, linear) => Ok(!linear),
         (Some("linear"), _) => Ok(false),
         (Some("srgb"), false) => Ok(true),
         (Some("srgb"), true) => Err(check.error(
             &format!("{field}.color_space"),
-            "EXR files hold linear values; color_space = \"srgb\" applies to PNG only",
+            "EXR and Radiance HDR files hold linear values; color_space = \"srgb\" applies to PNG only",
         )),
         (Some(other), _) => Err(check.error(
             &format!("{field}.color_space"),

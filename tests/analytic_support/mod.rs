@@ -4,6 +4,7 @@
 
 #[path = "../common/mod.rs"]
 pub mod common;
+pub mod ggx;
 
 #[allow(unused_imports)]
 pub use common::{
