@@ -121,6 +121,26 @@ fn load_mitsuba(
     })
 }
 
+/// `brume info scene.xml`: what each element of a Mitsuba scene became,
+/// after the scene has been built (so a scene brume cannot build is an error).
+pub fn mitsuba_info(path: &Path) -> Result<String> {
+    let imported = mitsuba::import(path, Vec::new())?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let (_, warnings) =
+        build_frame(&imported.desc, path, &base, None).map_err(|e| imported.locate(e))?;
+    let mut out = format!("{}: Mitsuba 3 scene\n", path.display());
+    for file in imported.files.iter().skip(1) {
+        out.push_str(&format!("included: {}\n", file.display()));
+    }
+    for line in &imported.summary {
+        out.push_str(&format!("{line}\n"));
+    }
+    for w in imported.warnings.iter().chain(&warnings) {
+        out.push_str(&format!("warning: {w}\n"));
+    }
+    Ok(out)
+}
+
 /// `--set name=value` as the `$name` of a Mitsuba scene (text as written, quotes removed).
 pub fn mitsuba_defaults(overrides: &[Override]) -> Vec<(String, String)> {
     overrides

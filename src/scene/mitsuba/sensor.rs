@@ -63,7 +63,13 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
         Some(s) => read_sampler(ctx, s.node)?,
         None => (4, 0, "independent"),
     };
-    let mut camera = placement(&to_world, p.node_of("to_world").unwrap_or(node))?;
+    let at = p.node_of("to_world").unwrap_or(node);
+    let mut camera = placement(&to_world, at)?;
+    if let Some(points) = super::transform::lone_lookat(at) {
+        // As written: brume builds the same frame from them, without a round trip through a matrix.
+        let [origin, target, up] = points?.map(|v| v.as_vec3().to_array());
+        (camera.position, camera.look_at, camera.up) = (origin, target, up);
+    }
     camera.resolution = film;
     fov(&p, &mut camera)?;
     if kind == "thinlens" {

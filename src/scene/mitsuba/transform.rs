@@ -28,7 +28,7 @@ fn operation(op: &Node) -> Result<DMat4> {
             let axis = axis
                 .try_normalize()
                 .ok_or_else(|| op.error("the rotation axis is zero"))?;
-            DMat4::from_axis_angle(axis, angle.to_radians())
+            DMat4::from_mat3(rotation(axis, angle))
         }
         "matrix" => {
             let text = op.required("value")?;
@@ -44,6 +44,33 @@ fn operation(op: &Node) -> Result<DMat4> {
     })
 }
 
+/// Rotation by `degrees` about the unit `axis` (right-handed); quarter
+/// turns are exact, so a rectangle turned by 90° lies exactly in its plane.
+fn rotation(axis: DVec3, degrees: f64) -> DMat3 {
+    let quarter = degrees / 90.0;
+    let (s, c) = if quarter == quarter.round() {
+        match (quarter as i64).rem_euclid(4) {
+            0 => (0.0, 1.0),
+            1 => (1.0, 0.0),
+            2 => (0.0, -1.0),
+            _ => (-1.0, 0.0),
+        }
+    } else {
+        degrees.to_radians().sin_cos()
+    };
+    let k = DMat3::from_cols(
+        DVec3::new(0.0, axis.z, -axis.y),
+        DVec3::new(-axis.z, 0.0, axis.x),
+        DVec3::new(axis.y, -axis.x, 0.0),
+    );
+    DMat3::IDENTITY * c + k * s + outer(axis) * (1.0 - c)
+}
+
+/// The outer product a aᵀ.
+fn outer(a: DVec3) -> DMat3 {
+    DMat3::from_cols(a * a.x, a * a.y, a * a.z)
+}
+
 /// `<scale value="s"/>` (uniform), `value="x, y, z"`, or `x`, `y`, `z` (default 1).
 fn scale(op: &Node) -> Result<DVec3> {
     if let Some(text) = op.attr("value") {
@@ -56,9 +83,16 @@ fn scale(op: &Node) -> Result<DVec3> {
     Ok(DVec3::from_array(triple(op, 1.0)?))
 }
 
-/// `<lookat origin target up>`: local +Z toward the target, +Y toward up,
-/// +X = up × direction (Mitsuba's frame).
-fn lookat(op: &Node) -> Result<DMat4> {
+/// The origin, target and up of a `<transform>` that is one `<lookat>`, as written.
+pub(crate) fn lone_lookat(node: &Node) -> Option<Result<[DVec3; 3]>> {
+    match node.children.as_slice() {
+        [op] if op.tag == "lookat" => Some(lookat_points(op)),
+        _ => None,
+    }
+}
+
+/// `<lookat origin target up>` as written (up defaults to +Y).
+fn lookat_points(op: &Node) -> Result<[DVec3; 3]> {
     let point = |key: &str| -> Result<DVec3> {
         let text = op.required(key)?;
         match numbers(op, text)?.as_slice() {
@@ -66,12 +100,17 @@ fn lookat(op: &Node) -> Result<DMat4> {
             _ => Err(op.error(format!("{key} `{text}` is not three numbers"))),
         }
     };
-    let origin = point("origin")?;
-    let target = point("target")?;
     let up = match op.attr("up") {
         Some(_) => point("up")?,
         None => DVec3::Y,
     };
+    Ok([point("origin")?, point("target")?, up])
+}
+
+/// `<lookat origin target up>`: local +Z toward the target, +Y toward up,
+/// +X = up × direction (Mitsuba's frame).
+fn lookat(op: &Node) -> Result<DMat4> {
+    let [origin, target, up] = lookat_points(op)?;
     let dir = (target - origin)
         .try_normalize()
         .ok_or_else(|| op.error("target equals origin"))?;
@@ -144,9 +183,6 @@ pub(crate) fn rotate_degrees(r: &DMat3) -> Option<[f32; 3]> {
         return None;
     }
     let (z, y, x) = DQuat::from_mat3(r).to_euler(EulerRot::ZYX);
-    Some([
-        x.to_degrees() as f32,
-        y.to_degrees() as f32,
-        z.to_degrees() as f32,
-    ])
+    // + 0.0 turns -0 into +0, as a user would write it.
+    Some([x, y, z].map(|a| a.to_degrees() as f32 + 0.0))
 }
