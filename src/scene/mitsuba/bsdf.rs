@@ -97,7 +97,8 @@ fn opaque(material: MaterialDesc) -> Surface {
 
 /// An index of refraction: a number or one of Mitsuba's names.
 fn ior(p: &Props, key: &str, default: f64) -> Result<f64> {
-    if let Some((name, at)) = p.string(key)? {
+    let named = p.node_of(key).is_some_and(|n| n.tag == "string");
+    if let Some((name, at)) = if named { p.string(key)? } else { None } {
         let lower = name.to_lowercase().replace('-', " ");
         return NAMED_IOR
             .iter()
