@@ -126,7 +126,10 @@ fn roughness(p: &Props) -> Result<f32> {
         }
     }
     if p.node_of("alpha_u").is_some() || p.node_of("alpha_v").is_some() {
-        return Err(unsupported(p.owner, "anisotropic roughness (alpha_u, alpha_v)"));
+        return Err(unsupported(
+            p.owner,
+            "anisotropic roughness (alpha_u, alpha_v)",
+        ));
     }
     if let Some(at) = p.node_of("alpha").filter(|n| n.tag == "texture") {
         return Err(unsupported(at, "a roughness texture"));
@@ -144,7 +147,10 @@ fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
     for key in ["specular_reflectance", "specular_transmittance"] {
         if let Some(c) = p.color(key)? {
             if !matches!(c, ColorParam::Rgb([1.0, 1.0, 1.0])) {
-                return Err(unsupported(p.node_of(key).unwrap_or(p.owner), "a tinted dielectric"));
+                return Err(unsupported(
+                    p.node_of(key).unwrap_or(p.owner),
+                    "a tinted dielectric",
+                ));
             }
         }
     }

@@ -47,11 +47,9 @@ pub(crate) fn read(ctx: &Ctx, node: &Node) -> Result<LightDesc> {
             radiance: constant(&p, "radiance")?,
         },
         "envmap" => envmap(ctx, &p, &m)?,
-        "area" => {
-            return Err(node.error(
-                "an area emitter belongs inside the <shape> that emits (brume: the shape's emission)",
-            ))
-        }
+        "area" => return Err(node.error(
+            "an area emitter belongs inside the <shape> that emits (brume: the shape's emission)",
+        )),
         _ => return Err(unsupported(node, "this emitter")),
     };
     p.finish()?;

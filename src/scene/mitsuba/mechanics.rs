@@ -39,11 +39,11 @@ impl Node {
 
     /// The element as the user wrote it, for messages: `<shape type="sphere">`.
     pub fn what(&self) -> String {
-        let key = ["type", "name", "id"]
+        let keys: String = ["type", "name", "id"]
             .iter()
-            .find_map(|k| self.attr(k).map(|v| format!(" {k}=\"{v}\"")))
-            .unwrap_or_default();
-        format!("<{}{key}>", self.tag)
+            .filter_map(|k| self.attr(k).map(|v| format!(" {k}=\"{v}\"")))
+            .collect();
+        format!("<{}{keys}>", self.tag)
     }
 
     /// An error about this element.
@@ -280,10 +280,7 @@ fn check_version(scene: &Node) -> Result<()> {
 }
 
 /// Every element with an `id`, by id; an id given twice is an error.
-pub(crate) fn collect_ids<'a>(
-    node: &'a Node,
-    ids: &mut HashMap<String, &'a Node>,
-) -> Result<()> {
+pub(crate) fn collect_ids<'a>(node: &'a Node, ids: &mut HashMap<String, &'a Node>) -> Result<()> {
     for child in &node.children {
         if child.tag != "ref" {
             if let Some(id) = child.attr("id") {

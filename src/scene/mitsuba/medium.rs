@@ -39,7 +39,10 @@ pub(crate) fn place<'a>(
     sensor: Option<Obj<'a>>,
     eye: [f32; 3],
 ) -> Result<Placed<'a>> {
-    let interior_keys: Vec<_> = shapes.iter().filter_map(|s| s.interior.as_ref().map(key)).collect();
+    let interior_keys: Vec<_> = shapes
+        .iter()
+        .filter_map(|s| s.interior.as_ref().map(key))
+        .collect();
     let outside: Vec<Obj> = shapes
         .iter()
         .filter_map(|s| s.exterior)
@@ -57,7 +60,10 @@ pub(crate) fn place<'a>(
     }
     for s in shapes {
         if s.null && s.interior.is_none() {
-            return Err(unsupported(s.node, "a null surface with no medium inside (it is invisible)"));
+            return Err(unsupported(
+                s.node,
+                "a null surface with no medium inside (it is invisible)",
+            ));
         }
     }
     let mut interiors = Vec::new();
@@ -86,10 +92,16 @@ fn check_medium_shape(
 ) -> Result<()> {
     let s = &shapes[i];
     if s.desc.kind == crate::scene::description::ShapeType::Quad {
-        return Err(unsupported(s.node, "a medium inside a rectangle (not a closed shape)"));
+        return Err(unsupported(
+            s.node,
+            "a medium inside a rectangle (not a closed shape)",
+        ));
     }
     if !s.transmissive {
-        return Err(unsupported(s.node, "a medium inside an opaque shape (light never reaches it)"));
+        return Err(unsupported(
+            s.node,
+            "a medium inside an opaque shape (light never reaches it)",
+        ));
     }
     if s.exterior.is_some() {
         return Err(unsupported(
@@ -154,10 +166,16 @@ fn place_global<'a>(
             return Err(unsupported(s.node, "a medium inside a shape that is itself inside a global medium (brume adds overlapping media)"));
         }
         if s.transmissive && !same(s.interior) {
-            return Err(unsupported(s.node, &format!("a see-through shape in {what} without it inside too")));
+            return Err(unsupported(
+                s.node,
+                &format!("a see-through shape in {what} without it inside too"),
+            ));
         }
         if s.null {
-            return Err(unsupported(s.node, "a null shape inside the global medium (it changes nothing: remove it)"));
+            return Err(unsupported(
+                s.node,
+                "a null shape inside the global medium (it changes nothing: remove it)",
+            ));
         }
     }
     let mut medium = read(ctx, global.node)?;

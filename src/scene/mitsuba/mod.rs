@@ -202,7 +202,11 @@ impl<'a> Builder<'a> {
         let mut shapes: Vec<ShapeDesc> = Vec::new();
         for (i, s) in self.shapes.into_iter().enumerate() {
             origin(format!("shape[{i}]"), s.node);
-            summary.push(format!("line {}: {} → shape[{i}]", s.node.line, s.node.what()));
+            summary.push(format!(
+                "line {}: {} → shape[{i}]",
+                s.node.line,
+                s.node.what()
+            ));
             shapes.push(s.desc);
         }
         for (shape, interior) in shapes.iter_mut().zip(media.interiors) {
@@ -216,7 +220,11 @@ impl<'a> Builder<'a> {
         }
         if let Some((_, node)) = &media.global {
             origin("medium[0]".into(), node);
-            summary.push(format!("line {}: {} → medium[0] (global)", node.line, node.what()));
+            summary.push(format!(
+                "line {}: {} → medium[0] (global)",
+                node.line,
+                node.what()
+            ));
         }
         let desc = SceneDesc {
             camera: sensor.camera,

@@ -50,7 +50,10 @@ impl Sensor<'_> {
 pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
     let kind = node.required("type")?;
     if kind != "perspective" && kind != "thinlens" {
-        return Err(unsupported(node, "this sensor (perspective and thinlens only)"));
+        return Err(unsupported(
+            node,
+            "this sensor (perspective and thinlens only)",
+        ));
     }
     let p = ctx.props(node)?;
     let to_world = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
@@ -74,9 +77,11 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
     fov(&p, &mut camera)?;
     if kind == "thinlens" {
         let need = |key: &str| -> Result<f32> {
-            p.float(key)?
-                .map(|v| v as f32)
-                .ok_or_else(|| node.error(format!("give <float name=\"{key}\"> (brume has no default for it)")))
+            p.float(key)?.map(|v| v as f32).ok_or_else(|| {
+                node.error(format!(
+                    "give <float name=\"{key}\"> (brume has no default for it)"
+                ))
+            })
         };
         camera.aperture_radius = Some(need("aperture_radius")?);
         camera.focus_distance = Some(need("focus_distance")?);
@@ -84,7 +89,10 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
     for (key, default) in [("near_clip", 0.01), ("far_clip", 10000.0)] {
         if let Some(v) = p.float(key)? {
             if v != default {
-                ctx.warn(node, format!("{key} = {v}: brume does not clip camera rays"));
+                ctx.warn(
+                    node,
+                    format!("{key} = {v}: brume does not clip camera rays"),
+                );
             }
         }
     }
@@ -192,7 +200,11 @@ fn film(ctx: &Ctx, node: &Node) -> Result<[u32; 2]> {
         u32::try_from(v)
             .ok()
             .filter(|v| (1..=32768).contains(v))
-            .ok_or_else(|| p.node_of(key).unwrap_or(node).error(format!("{key} {v} must be 1 to 32768")))
+            .ok_or_else(|| {
+                p.node_of(key)
+                    .unwrap_or(node)
+                    .error(format!("{key} {v} must be 1 to 32768"))
+            })
     };
     let (w, h) = (size("width", 768)?, size("height", 576)?);
     let crop = [
@@ -231,10 +243,11 @@ fn read_sampler(ctx: &Ctx, node: &Node) -> Result<(u32, u64, &'static str)> {
     };
     let p = ctx.props(node)?;
     let spp = p.int("sample_count")?.unwrap_or(4);
-    let spp = u32::try_from(spp)
-        .ok()
-        .filter(|&s| s > 0)
-        .ok_or_else(|| p.node_of("sample_count").unwrap_or(node).error("must be a positive whole number"))?;
+    let spp = u32::try_from(spp).ok().filter(|&s| s > 0).ok_or_else(|| {
+        p.node_of("sample_count")
+            .unwrap_or(node)
+            .error("must be a positive whole number")
+    })?;
     let seed = p.int("seed")?.unwrap_or(0);
     let seed = u64::try_from(seed)
         .map_err(|_| p.node_of("seed").unwrap_or(node).error("must be 0 or more"))?;
@@ -263,11 +276,17 @@ pub(crate) fn integrator(ctx: &Ctx, node: Option<&Node>) -> Result<IntegratorDes
         if inner.len() > 1 {
             return Err(unsupported(node, "several nested integrators"));
         }
-        ctx.warn(node, "a wrapper's extra outputs are not written: brume renders the nested integrator");
+        ctx.warn(
+            node,
+            "a wrapper's extra outputs are not written: brume renders the nested integrator",
+        );
         node = inner[0].node;
     }
     if !matches!(node.required("type")?, "path" | "volpath" | "volpathmis") {
-        return Err(unsupported(node, "this integrator (path, volpath, volpathmis)"));
+        return Err(unsupported(
+            node,
+            "this integrator (path, volpath, volpathmis)",
+        ));
     }
     let p = ctx.props(node)?;
     // Mitsuba counts path segments (1 = emitters seen directly); brume counts scattering vertices.
@@ -281,8 +300,11 @@ pub(crate) fn integrator(ctx: &Ctx, node: Option<&Node>) -> Result<IntegratorDes
         };
     }
     if let Some(d) = p.int("rr_depth")? {
-        desc.rr_depth = u32::try_from(d)
-            .map_err(|_| p.node_of("rr_depth").unwrap_or(node).error("must be 0 or more"))?;
+        desc.rr_depth = u32::try_from(d).map_err(|_| {
+            p.node_of("rr_depth")
+                .unwrap_or(node)
+                .error("must be 0 or more")
+        })?;
     }
     if p.bool("hide_emitters")? == Some(true) {
         return Err(unsupported(node, "hide_emitters"));

@@ -36,7 +36,10 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
     let at = p.node_of("to_world").unwrap_or(node);
     let flip = p.bool("flip_normals")?.unwrap_or(false);
     if flip && kind != "rectangle" {
-        return Err(unsupported(node, "flip_normals on this shape (rectangles only)"));
+        return Err(unsupported(
+            node,
+            "flip_normals on this shape (rectangles only)",
+        ));
     }
     let mut desc = blank(ShapeType::Sphere);
     let mut bounds = None;
@@ -58,7 +61,11 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
         }
         "rectangle" => {
             rectangle(&mut desc, &to_world, flip, at)?;
-            bounds = Some(box_bounds(&to_world, DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0)));
+            bounds = Some(box_bounds(
+                &to_world,
+                DVec3::ZERO,
+                DVec3::new(1.0, 1.0, 0.0),
+            ));
         }
         "obj" => {
             let (name, file_at) = p
@@ -68,11 +75,19 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
             desc.file = Some(ctx.file(name, file_at)?);
             desc.transform = to_brume(&to_world, at)?;
             if p.bool("face_normals")? == Some(true) {
-                return Err(unsupported(node, "face_normals (brume shades with the OBJ's vertex normals when it has them)"));
+                return Err(unsupported(
+                    node,
+                    "face_normals (brume shades with the OBJ's vertex normals when it has them)",
+                ));
             }
             p.bool("flip_tex_coords")?; // only matters to textures, which are refused
         }
-        _ => return Err(unsupported(node, "this shape (sphere, cube, rectangle, obj)")),
+        _ => {
+            return Err(unsupported(
+                node,
+                "this shape (sphere, cube, rectangle, obj)",
+            ))
+        }
     }
     let surface = match p.object("bsdf", None) {
         Some(b) => super::bsdf::read(ctx, b)?,
@@ -89,10 +104,14 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
     }
     let interior = p.object("medium", Some("interior"));
     let exterior = p.object("medium", Some("exterior"));
-    if let Some(m) = p.objects("medium").into_iter().find(|m| {
-        !matches!(m.name, Some("interior" | "exterior"))
-    }) {
-        return Err(m.at.error("a shape's medium needs name=\"interior\" or name=\"exterior\""));
+    if let Some(m) = p
+        .objects("medium")
+        .into_iter()
+        .find(|m| !matches!(m.name, Some("interior" | "exterior")))
+    {
+        return Err(m
+            .at
+            .error("a shape's medium needs name=\"interior\" or name=\"exterior\""));
     }
     p.finish()?;
     if surface.one_sided && matches!(kind, "rectangle" | "obj") {
@@ -136,7 +155,10 @@ fn blank(kind: ShapeType) -> ShapeDesc {
 /// Mitsuba's rectangle: [-1, 1]² in the local XY plane, normal +Z, mapped by `m`.
 fn rectangle(desc: &mut ShapeDesc, m: &DMat4, flip: bool, at: &Node) -> Result<()> {
     let Some((cols, lengths)) = axes(m) else {
-        return Err(unsupported(at, "a rectangle to_world with shear (a parallelogram)"));
+        return Err(unsupported(
+            at,
+            "a rectangle to_world with shear (a parallelogram)",
+        ));
     };
     let linear = DMat3::from_mat4(*m);
     let normal = (linear.inverse().transpose() * DVec3::Z).normalize();

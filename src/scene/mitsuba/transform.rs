@@ -40,7 +40,11 @@ fn operation(op: &Node) -> Result<DMat4> {
             }
         }
         "lookat" => lookat(op)?,
-        _ => return Err(op.error("unknown transform operation (expected translate, scale, rotate, matrix or lookat)")),
+        _ => {
+            return Err(op.error(
+                "unknown transform operation (expected translate, scale, rotate, matrix or lookat)",
+            ))
+        }
     })
 }
 
@@ -134,7 +138,11 @@ pub(crate) fn axes(m: &DMat4) -> Option<([DVec3; 3], DVec3)> {
     if m.row(3) != glam::DVec4::W {
         return None;
     }
-    let cols = [m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate()];
+    let cols = [
+        m.x_axis.truncate(),
+        m.y_axis.truncate(),
+        m.z_axis.truncate(),
+    ];
     let lengths = DVec3::new(cols[0].length(), cols[1].length(), cols[2].length());
     if lengths.min_element() <= 0.0 {
         return None;
@@ -162,7 +170,11 @@ pub(crate) fn to_brume(m: &DMat4, at: &Node) -> Result<Option<TransformDesc>> {
             "a mirroring to_world (negative scale)",
         ));
     }
-    let rotation = DMat3::from_cols(cols[0] / lengths.x, cols[1] / lengths.y, cols[2] / lengths.z);
+    let rotation = DMat3::from_cols(
+        cols[0] / lengths.x,
+        cols[1] / lengths.y,
+        cols[2] / lengths.z,
+    );
     let t = m.w_axis.truncate();
     let desc = TransformDesc {
         translate: (t != DVec3::ZERO).then(|| t.as_vec3().to_array()),

@@ -104,7 +104,10 @@ impl<'a> Props<'a> {
 
     /// The value element named `name`, marked as taken.
     fn take(&self, name: &str) -> Option<&'a Node> {
-        let (node, used) = self.values.iter().find(|(n, _)| n.attr("name") == Some(name))?;
+        let (node, used) = self
+            .values
+            .iter()
+            .find(|(n, _)| n.attr("name") == Some(name))?;
         used.set(true);
         Some(node)
     }
@@ -190,13 +193,15 @@ impl<'a> Props<'a> {
         let Some(node) = self.take(name) else {
             return Ok(None);
         };
-        let value = node.required("value").or_else(|e| match node.tag.as_str() {
-            "spectrum" if node.attr("filename").is_some() => Err(super::unsupported(
-                node,
-                "spectra read from files (give an <rgb> instead)",
-            )),
-            _ => Err(e),
-        })?;
+        let value = node
+            .required("value")
+            .or_else(|e| match node.tag.as_str() {
+                "spectrum" if node.attr("filename").is_some() => Err(super::unsupported(
+                    node,
+                    "spectra read from files (give an <rgb> instead)",
+                )),
+                _ => Err(e),
+            })?;
         let rgb = match node.tag.as_str() {
             "float" | "integer" => [number(node, value)?; 3],
             "rgb" => rgb(node, value)?,
