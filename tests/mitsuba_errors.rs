@@ -252,7 +252,10 @@ fn a_value_brume_rejects_when_building_is_reported_at_its_element() {
         "b.xml",
         &format!("<scene version=\"3.0.0\">{SENSOR}\n\n<shape type=\"sphere\"><float name=\"radius\" value=\"-1\"/></shape></scene>"),
     );
-    let e = brume::scene::load_with_inputs(&path).err().expect("a negative radius was accepted").to_string();
+    let e = brume::scene::load_with_inputs(&path)
+        .err()
+        .expect("a negative radius was accepted")
+        .to_string();
     assert!(e.contains("b.xml:3: <shape type=\"sphere\">: "), "{e}");
     assert!(e.contains("(brume's `shape[0].radius`)"), "{e}");
 }

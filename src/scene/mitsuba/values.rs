@@ -193,15 +193,13 @@ impl<'a> Props<'a> {
         let Some(node) = self.take(name) else {
             return Ok(None);
         };
-        let value = node
-            .required("value")
-            .or_else(|e| match node.tag.as_str() {
-                "spectrum" if node.attr("filename").is_some() => Err(super::unsupported(
-                    node,
-                    "spectra read from files (give an <rgb> instead)",
-                )),
-                _ => Err(e),
-            })?;
+        if node.tag == "spectrum" && node.attr("filename").is_some() {
+            return Err(super::unsupported(
+                node,
+                "spectra read from files (give an <rgb> instead)",
+            ));
+        }
+        let value = node.required("value")?;
         let rgb = match node.tag.as_str() {
             "float" | "integer" => [number(node, value)?; 3],
             "rgb" => rgb(node, value)?,
