@@ -73,6 +73,29 @@ impl Imported {
     }
 }
 
+/// Where each part of the description came from, and the summary lines.
+#[derive(Default)]
+struct Trace {
+    origins: Vec<(String, Origin)>,
+    summary: Vec<String>,
+}
+
+impl Trace {
+    /// Records that `field` of the description was read from `node` (and says so in the summary).
+    fn origin(&mut self, field: &str, node: &Node, summarize: bool) {
+        if summarize {
+            let line = format!("line {}: {} → {field}", node.line, node.what());
+            self.summary.push(line);
+        }
+        let origin = Origin {
+            file: node.file.as_ref().clone(),
+            line: node.line,
+            element: node.what(),
+        };
+        self.origins.push((field.to_string(), origin));
+    }
+}
+
 /// What the element-readers share: the ids, the file finder and the warnings.
 pub(crate) struct Ctx<'a> {
     ids: HashMap<String, &'a Node>,
@@ -182,50 +205,27 @@ impl<'a> Builder<'a> {
         let sensor = self
             .sensor
             .ok_or_else(|| root.error("the scene has no <sensor> (brume needs a camera)"))?;
-        let mut origins = Vec::new();
-        let mut origin = |field: String, node: &Node| {
-            origins.push((
-                field,
-                Origin {
-                    file: node.file.as_ref().clone(),
-                    line: node.line,
-                    element: node.what(),
-                },
-            ))
-        };
+        let mut trace = Trace::default();
         let mut integrator = sensor::integrator(ctx, self.integrator)?;
         sensor.settings(&mut integrator);
-        origin("camera".into(), sensor.node);
-        origin("integrator".into(), self.integrator.unwrap_or(sensor.node));
+        trace.summary.push(sensor.summary(&integrator));
+        trace.origin("camera", sensor.node, false);
+        trace.origin("integrator", self.integrator.unwrap_or(sensor.node), false);
         let media = medium::place(ctx, &self.shapes, sensor.medium, sensor.camera.position)?;
-        let mut summary = vec![sensor.summary(&integrator)];
         let mut shapes: Vec<ShapeDesc> = Vec::new();
-        for (i, s) in self.shapes.into_iter().enumerate() {
-            origin(format!("shape[{i}]"), s.node);
-            summary.push(format!(
-                "line {}: {} → shape[{i}]",
-                s.node.line,
-                s.node.what()
-            ));
-            shapes.push(s.desc);
-        }
-        for (shape, interior) in shapes.iter_mut().zip(media.interiors) {
-            shape.interior = interior;
+        for ((i, s), interior) in self.shapes.into_iter().enumerate().zip(media.interiors) {
+            trace.origin(&format!("shape[{i}]"), s.node, true);
+            shapes.push(ShapeDesc { interior, ..s.desc });
         }
         let mut lights = Vec::new();
         for (i, (light, node)) in self.lights.into_iter().enumerate() {
-            origin(format!("light[{i}]"), node);
-            summary.push(format!("line {}: {} → light[{i}]", node.line, node.what()));
+            trace.origin(&format!("light[{i}]"), node, true);
             lights.push(light);
         }
         if let Some((_, node)) = &media.global {
-            origin("medium[0]".into(), node);
-            summary.push(format!(
-                "line {}: {} → medium[0] (global)",
-                node.line,
-                node.what()
-            ));
+            trace.origin("medium[0]", node, true);
         }
+        let Trace { origins, summary } = trace;
         let desc = SceneDesc {
             camera: sensor.camera,
             integrator,

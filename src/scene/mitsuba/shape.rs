@@ -4,7 +4,7 @@
 use super::bsdf::Surface;
 use super::mechanics::Node;
 use super::transform::{axes, to_brume};
-use super::values::Obj;
+use super::values::{Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
 use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, ShapeDesc, ShapeType};
@@ -32,63 +32,7 @@ pub(crate) struct Imported<'a> {
 pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
     let kind = node.required("type")?;
     let p = ctx.props(node)?;
-    let to_world = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
-    let at = p.node_of("to_world").unwrap_or(node);
-    let flip = p.bool("flip_normals")?.unwrap_or(false);
-    if flip && kind != "rectangle" {
-        return Err(unsupported(
-            node,
-            "flip_normals on this shape (rectangles only)",
-        ));
-    }
-    let mut desc = blank(ShapeType::Sphere);
-    let mut bounds = None;
-    match kind {
-        "sphere" => {
-            let center = p.point("center")?.unwrap_or(DVec3::ZERO);
-            let radius = p.float("radius")?.unwrap_or(1.0);
-            desc.center = Some(center.as_vec3().to_array());
-            desc.radius = Some(radius as f32);
-            desc.transform = to_brume(&to_world, at)?;
-            bounds = Some(box_bounds(&to_world, center, DVec3::splat(radius)));
-        }
-        "cube" => {
-            desc.kind = ShapeType::Box;
-            desc.center = Some([0.0; 3]);
-            desc.size = Some(vec![2.0; 3]);
-            desc.transform = to_brume(&to_world, at)?;
-            bounds = Some(box_bounds(&to_world, DVec3::ZERO, DVec3::ONE));
-        }
-        "rectangle" => {
-            rectangle(&mut desc, &to_world, flip, at)?;
-            bounds = Some(box_bounds(
-                &to_world,
-                DVec3::ZERO,
-                DVec3::new(1.0, 1.0, 0.0),
-            ));
-        }
-        "obj" => {
-            let (name, file_at) = p
-                .string("filename")?
-                .ok_or_else(|| node.error("give <string name=\"filename\">"))?;
-            desc.kind = ShapeType::Mesh;
-            desc.file = Some(ctx.file(name, file_at)?);
-            desc.transform = to_brume(&to_world, at)?;
-            if p.bool("face_normals")? == Some(true) {
-                return Err(unsupported(
-                    node,
-                    "face_normals (brume shades with the OBJ's vertex normals when it has them)",
-                ));
-            }
-            p.bool("flip_tex_coords")?; // only matters to textures, which are refused
-        }
-        _ => {
-            return Err(unsupported(
-                node,
-                "this shape (sphere, cube, rectangle, obj)",
-            ))
-        }
-    }
+    let (mut desc, bounds) = geometry(ctx, &p, kind)?;
     let surface = match p.object("bsdf", None) {
         Some(b) => super::bsdf::read(ctx, b)?,
         None => Surface {
@@ -132,6 +76,75 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
         transmissive: surface.transmissive,
         bounds,
     })
+}
+
+/// World bounds (where known before files are read).
+type Bounds = Option<(DVec3, DVec3)>;
+
+/// The shape's geometry and placement, by `type`.
+fn geometry(ctx: &Ctx, p: &Props, kind: &str) -> Result<(ShapeDesc, Bounds)> {
+    let node = p.owner;
+    let to_world = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+    let at = p.node_of("to_world").unwrap_or(node);
+    let flip = p.bool("flip_normals")?.unwrap_or(false);
+    if flip && kind != "rectangle" {
+        return Err(unsupported(
+            node,
+            "flip_normals on this shape (rectangles only)",
+        ));
+    }
+    let mut desc = blank(ShapeType::Sphere);
+    let bounds = match kind {
+        "sphere" => {
+            let center = p.point("center")?.unwrap_or(DVec3::ZERO);
+            let radius = p.float("radius")?.unwrap_or(1.0);
+            desc.center = Some(center.as_vec3().to_array());
+            desc.radius = Some(radius as f32);
+            desc.transform = to_brume(&to_world, at)?;
+            Some(box_bounds(&to_world, center, DVec3::splat(radius)))
+        }
+        "cube" => {
+            desc.kind = ShapeType::Box;
+            desc.center = Some([0.0; 3]);
+            desc.size = Some(vec![2.0; 3]);
+            desc.transform = to_brume(&to_world, at)?;
+            Some(box_bounds(&to_world, DVec3::ZERO, DVec3::ONE))
+        }
+        "rectangle" => {
+            rectangle(&mut desc, &to_world, flip, at)?;
+            let half = DVec3::new(1.0, 1.0, 0.0);
+            Some(box_bounds(&to_world, DVec3::ZERO, half))
+        }
+        "obj" => {
+            obj(ctx, p, &mut desc)?;
+            desc.transform = to_brume(&to_world, at)?;
+            None
+        }
+        _ => {
+            return Err(unsupported(
+                node,
+                "this shape (sphere, cube, rectangle, obj)",
+            ))
+        }
+    };
+    Ok((desc, bounds))
+}
+
+/// `<shape type="obj">`: the file; face normals are refused.
+fn obj(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc) -> Result<()> {
+    let (name, file_at) = p
+        .string("filename")?
+        .ok_or_else(|| p.owner.error("give <string name=\"filename\">"))?;
+    desc.kind = ShapeType::Mesh;
+    desc.file = Some(ctx.file(name, file_at)?);
+    if p.bool("face_normals")? == Some(true) {
+        return Err(unsupported(
+            p.owner,
+            "face_normals (brume shades with the OBJ's vertex normals when it has them)",
+        ));
+    }
+    p.bool("flip_tex_coords")?; // only matters to textures, which are refused
+    Ok(())
 }
 
 /// A shape description with nothing set but its type.
