@@ -10,6 +10,9 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
+/// Largest XML file read, as for TOML scenes (meshes go in OBJ files).
+pub(crate) const MAX_XML_BYTES: u64 = 16 << 20;
+
 /// Deepest chain of `<include>`s followed (a guard against runaway nesting).
 pub(crate) const MAX_INCLUDE_DEPTH: usize = 16;
 
@@ -100,7 +103,7 @@ impl Loader {
                 message,
             },
         };
-        if let Some(p) = crate::error::input_file_problem(path, super::super::MAX_SCENE_BYTES) {
+        if let Some(p) = crate::error::input_file_problem(path, MAX_XML_BYTES) {
             return Err(problem(format!("cannot read scene file: {p}")));
         }
         let canonical = path.canonicalize().map_err(|e| problem(e.to_string()))?;
