@@ -17,6 +17,18 @@ pub enum Error {
         /// What is wrong and what was expected.
         message: String,
     },
+    /// A Mitsuba 3 XML scene holds what brume cannot import (or a mistake).
+    #[error("{}:{line}: {element}: {message}", file.display())]
+    Import {
+        /// The XML file holding the element (an included file if there).
+        file: PathBuf,
+        /// Line of the element in that file.
+        line: u32,
+        /// The element as written, e.g. `<bsdf type="plastic">`.
+        element: String,
+        /// What is wrong.
+        message: String,
+    },
     /// An input file (scene, OBJ, VDB) cannot be read.
     #[error("{}: {message}", path.display())]
     Input {

@@ -38,8 +38,17 @@ pub fn frame_scene_hash(
     let text = read(file)?;
     let mut hash = Hasher::new();
     hash.bytes(&text);
-    let desc =
-        crate::scene::parse_with_overrides(&String::from_utf8_lossy(&text), file, overrides)?;
+    let desc = if crate::scene::mitsuba::is_mitsuba(file) {
+        // Included XML files are part of the scene too.
+        let defaults = crate::scene::mitsuba_defaults(overrides);
+        let imported = crate::scene::mitsuba::import(file, defaults)?;
+        for included in imported.files.iter().skip(1) {
+            hash.bytes(&read(included)?);
+        }
+        imported.desc
+    } else {
+        crate::scene::parse_with_overrides(&String::from_utf8_lossy(&text), file, overrides)?
+    };
     for o in overrides {
         hash.bytes(o.to_string().as_bytes());
     }

@@ -75,6 +75,16 @@ pub fn add_to_plan(
     scene: &Path,
     overrides: &[super::Override],
 ) -> Result<()> {
+    if super::mitsuba::is_mitsuba(scene) {
+        let imported = super::mitsuba::import(scene, super::mitsuba_defaults(overrides))?;
+        for (i, file) in imported.files.iter().enumerate().skip(1) {
+            plan.input(&format!("included XML file {i}"), file);
+        }
+        for file in files_read(&imported.desc, scene, None) {
+            plan.input(&file.key, &file.path);
+        }
+        return Ok(());
+    }
     let text = super::read_scene_text(scene)?;
     let desc = super::parse_with_overrides(&text, scene, overrides)?;
     for file in files_read(&desc, scene, None) {

@@ -1,0 +1,225 @@
+//! `<bsdf>`: diffuse, null, dielectric, roughdielectric, conductor,
+//! roughconductor, twosided; the rest is refused by name.
+
+use super::mechanics::Node;
+use super::values::{ColorParam, Obj, Props};
+use super::{unsupported, Ctx};
+use crate::error::Result;
+use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, TextureDesc};
+
+/// Mitsuba's named indices of refraction (its `dielectric` table).
+const NAMED_IOR: [(&str, f64); 23] = [
+    ("vacuum", 1.0),
+    ("helium", 1.000036),
+    ("hydrogen", 1.000132),
+    ("air", 1.000277),
+    ("carbon dioxide", 1.00045),
+    ("water", 1.3330),
+    ("acetone", 1.36),
+    ("ethanol", 1.361),
+    ("carbon tetrachloride", 1.461),
+    ("glycerol", 1.4729),
+    ("benzene", 1.501),
+    ("silicone oil", 1.52045),
+    ("bromine", 1.661),
+    ("water ice", 1.31),
+    ("fused quartz", 1.458),
+    ("pyrex", 1.470),
+    ("acrylic glass", 1.49),
+    ("polypropylene", 1.49),
+    ("bk7", 1.5046),
+    ("sodium chloride", 1.544),
+    ("amber", 1.55),
+    ("pet", 1.5750),
+    ("diamond", 2.419),
+];
+
+/// What a shape's `<bsdf>` becomes.
+pub(crate) struct Surface {
+    /// brume's material; `None` for `null` (no surface: only a medium boundary).
+    pub material: Option<MaterialDesc>,
+    /// Mitsuba's BSDF is black from behind (not wrapped in `twosided`, not a dielectric or null).
+    pub one_sided: bool,
+    /// Light passes through (null, dielectric).
+    pub transmissive: bool,
+}
+
+/// The surface of a shape's `<bsdf>` (or `<ref>` to one).
+pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
+    let node = obj.node;
+    let kind = node.required("type")?;
+    if kind == "twosided" {
+        let p = ctx.props(node)?;
+        let inner = p.objects("bsdf");
+        p.finish()?;
+        return match inner.as_slice() {
+            [one] if one.node.attr("type") == Some("twosided") => {
+                Err(node.error("a twosided inside a twosided"))
+            }
+            [one] => read(ctx, *one).map(|s| Surface {
+                one_sided: false,
+                ..s
+            }),
+            [] => Err(node.error("holds no <bsdf>")),
+            _ => Err(unsupported(node, "a different BSDF on each side")),
+        };
+    }
+    let p = ctx.props(node)?;
+    let surface = match kind {
+        "null" => Surface {
+            material: None,
+            one_sided: false,
+            transmissive: true,
+        },
+        "diffuse" => opaque(MaterialDesc::Diffuse {
+            albedo: color(ctx, &p, "reflectance", 0.5)?,
+        }),
+        "dielectric" | "roughdielectric" => Surface {
+            material: Some(dielectric(&p, kind == "roughdielectric")?),
+            one_sided: false,
+            transmissive: true,
+        },
+        "conductor" | "roughconductor" => opaque(conductor(&p, kind == "roughconductor")?),
+        _ => return Err(unsupported(node, "this BSDF")),
+    };
+    p.finish()?;
+    Ok(surface)
+}
+
+/// An opaque, one-sided surface.
+fn opaque(material: MaterialDesc) -> Surface {
+    Surface {
+        material: Some(material),
+        one_sided: true,
+        transmissive: false,
+    }
+}
+
+/// An index of refraction: a number or one of Mitsuba's names.
+fn ior(p: &Props, key: &str, default: f64) -> Result<f64> {
+    let named = p.node_of(key).is_some_and(|n| n.tag == "string");
+    if let Some((name, at)) = if named { p.string(key)? } else { None } {
+        let lower = name.to_lowercase().replace('-', " ");
+        return NAMED_IOR
+            .iter()
+            .find(|(n, _)| *n == lower)
+            .map(|(_, v)| *v)
+            .ok_or_else(|| at.error(format!("unknown material `{name}` (give a number or one of Mitsuba's names, e.g. \"water\", \"bk7\", \"air\")")));
+    }
+    let v = p.float(key)?.unwrap_or(default);
+    if v <= 0.0 {
+        return Err(p.node_of(key).unwrap_or(p.owner).error("must be positive"));
+    }
+    Ok(v)
+}
+
+/// GGX α of a rough BSDF: `alpha` (default 0.1), isotropic, `distribution="ggx"`.
+fn roughness(p: &Props) -> Result<f32> {
+    match p.string("distribution")? {
+        Some(("ggx", _)) => {}
+        Some((_, at)) => return Err(unsupported(at, "this microfacet distribution (brume's is GGX)")),
+        None => {
+            return Err(unsupported(
+                p.owner,
+                "Mitsuba's default Beckmann distribution (brume's is GGX): write <string name=\"distribution\" value=\"ggx\"/>",
+            ))
+        }
+    }
+    if p.node_of("alpha_u").is_some() || p.node_of("alpha_v").is_some() {
+        return Err(unsupported(
+            p.owner,
+            "anisotropic roughness (alpha_u, alpha_v)",
+        ));
+    }
+    if let Some(at) = p.node_of("alpha").filter(|n| n.tag == "texture") {
+        return Err(unsupported(at, "a roughness texture"));
+    }
+    p.bool("sample_visible")?; // a sampling choice, not a look
+    let alpha = p.float("alpha")?.unwrap_or(0.1);
+    Ok(alpha as f32)
+}
+
+/// `dielectric` / `roughdielectric`: brume's outside index is 1, so the
+/// relative index int_ior / ext_ior is what it takes.
+fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
+    let int = ior(p, "int_ior", 1.5046)?;
+    let ext = ior(p, "ext_ior", 1.000277)?;
+    for key in ["specular_reflectance", "specular_transmittance"] {
+        if let Some(c) = p.color(key)? {
+            if !matches!(c, ColorParam::Rgb([1.0, 1.0, 1.0])) {
+                return Err(unsupported(
+                    p.node_of(key).unwrap_or(p.owner),
+                    "a tinted dielectric",
+                ));
+            }
+        }
+    }
+    let alpha = if rough { roughness(p)? } else { 0.0 };
+    Ok(MaterialDesc::Dielectric {
+        ior: (int / ext) as f32,
+        alpha,
+        multiscatter: MITSUBA_MULTISCATTER,
+    })
+}
+
+/// Mitsuba's rough conductors and dielectrics model single scattering between
+/// microfacets only: imported scenes keep brume's energy compensation off to match.
+const MITSUBA_MULTISCATTER: bool = false;
+
+/// `conductor` / `roughconductor`: material "none" (a perfect reflector) or `eta`/`k` as RGB.
+fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
+    let named = p.string("material")?;
+    let eta = p.color("eta")?;
+    let k = p.color("k")?;
+    let tint = p.color("specular_reflectance")?;
+    let alpha = if rough { roughness(p)? } else { 0.0 };
+    let rgb = |c: Option<ColorParam>, key: &str| -> Result<Option<Color>> {
+        match c {
+            None => Ok(None),
+            Some(ColorParam::Rgb(v)) => Ok(Some(Color(v.map(|x| x as f32)))),
+            Some(ColorParam::Texture(t)) => Err(unsupported(t.at, &format!("a textured {key}"))),
+        }
+    };
+    if tint.is_some_and(|t| !matches!(t, ColorParam::Rgb([1.0, 1.0, 1.0]))) {
+        return Err(unsupported(
+            p.node_of("specular_reflectance").unwrap_or(p.owner),
+            "a tinted conductor (specular_reflectance other than 1)",
+        ));
+    }
+    match (named, eta.is_some() || k.is_some()) {
+        (Some((name, at)), _) if name != "none" => Err(unsupported(
+            at,
+            "Mitsuba's measured conductor spectra: give eta and k as <rgb>",
+        )),
+        (Some(_), true) => Err(p.owner.error("give either material or eta and k, not both")),
+        // "none" (the default without eta/k): reflects everything at every angle.
+        (_, false) => Ok(MaterialDesc::Conductor {
+            alpha,
+            eta: None,
+            k: None,
+            f0: Some(ColorOrTexture::Color(Color([1.0; 3]))),
+            multiscatter: MITSUBA_MULTISCATTER,
+        }),
+        (None, true) => Ok(MaterialDesc::Conductor {
+            alpha,
+            eta: Some(rgb(eta, "eta")?.unwrap_or(Color([0.0; 3]))),
+            k: Some(rgb(k, "k")?.unwrap_or(Color([1.0; 3]))),
+            f0: None,
+            multiscatter: MITSUBA_MULTISCATTER,
+        }),
+    }
+}
+
+/// A colour or a `bitmap`/`checkerboard` texture, with Mitsuba's default `grey`.
+fn color(ctx: &Ctx, p: &Props, key: &str, grey: f32) -> Result<ColorOrTexture> {
+    match p.color(key)? {
+        None => Ok(ColorOrTexture::Color(Color([grey; 3]))),
+        Some(ColorParam::Rgb(c)) => Ok(ColorOrTexture::Color(Color(c.map(|v| v as f32)))),
+        Some(ColorParam::Texture(t)) => texture(ctx, t.node).map(ColorOrTexture::Texture),
+    }
+}
+
+/// `<texture>`: not yet mapped (UV conventions differ between the two renderers).
+fn texture(_ctx: &Ctx, node: &Node) -> Result<TextureDesc> {
+    Err(unsupported(node, "textures (bitmap, checkerboard)"))
+}

@@ -1,0 +1,202 @@
+//! `<shape>`: sphere, cube, rectangle and obj, with their BSDF, area
+//! emitter and interior/exterior media.
+
+use super::bsdf::Surface;
+use super::mechanics::Node;
+use super::transform::{axes, to_brume};
+use super::values::{Obj, Props};
+use super::{unsupported, Ctx};
+use crate::error::Result;
+use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, ShapeDesc, ShapeType};
+use glam::{DMat3, DMat4, DVec3};
+
+/// A shape read from the XML, before media are placed.
+pub(crate) struct Imported<'a> {
+    /// The `<shape>` element.
+    pub node: &'a Node,
+    /// brume's shape (its `interior` is set when media are placed).
+    pub desc: ShapeDesc,
+    /// The medium inside (`name="interior"`).
+    pub interior: Option<Obj<'a>>,
+    /// The medium outside (`name="exterior"`).
+    pub exterior: Option<Obj<'a>>,
+    /// Its BSDF is null (no surface at all).
+    pub null: bool,
+    /// Light passes through the surface (null or dielectric).
+    pub transmissive: bool,
+    /// World-space bounds (for the overlap check of media).
+    pub bounds: Option<(DVec3, DVec3)>,
+}
+
+/// One `<shape>`.
+pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
+    let kind = node.required("type")?;
+    let p = ctx.props(node)?;
+    let (mut desc, bounds) = geometry(ctx, &p, kind)?;
+    let surface = match p.object("bsdf", None) {
+        Some(b) => super::bsdf::read(ctx, b)?,
+        None => Surface {
+            material: Some(MaterialDesc::Diffuse {
+                albedo: ColorOrTexture::Color(Color([0.5; 3])),
+            }),
+            one_sided: true,
+            transmissive: false,
+        },
+    };
+    if let Some(e) = p.object("emitter", None) {
+        desc.emission = Some(ColorOrTexture::Color(super::emitter::area(ctx, e.node)?));
+    }
+    let interior = p.object("medium", Some("interior"));
+    let exterior = p.object("medium", Some("exterior"));
+    if let Some(m) = p
+        .objects("medium")
+        .into_iter()
+        .find(|m| !matches!(m.name, Some("interior" | "exterior")))
+    {
+        return Err(m
+            .at
+            .error("a shape's medium needs name=\"interior\" or name=\"exterior\""));
+    }
+    p.finish()?;
+    if surface.one_sided && matches!(kind, "rectangle" | "obj") {
+        ctx.warn(
+            node,
+            "Mitsuba's BSDF is black from behind, brume's shades both sides: \
+             wrap it in <bsdf type=\"twosided\"> if the back is ever seen",
+        );
+    }
+    let null = surface.material.is_none();
+    desc.material = surface.material;
+    Ok(Imported {
+        node,
+        desc,
+        interior,
+        exterior,
+        null,
+        transmissive: surface.transmissive,
+        bounds,
+    })
+}
+
+/// World bounds (where known before files are read).
+type Bounds = Option<(DVec3, DVec3)>;
+
+/// The shape's geometry and placement, by `type`.
+fn geometry(ctx: &Ctx, p: &Props, kind: &str) -> Result<(ShapeDesc, Bounds)> {
+    let node = p.owner;
+    let to_world = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+    let at = p.node_of("to_world").unwrap_or(node);
+    let flip = p.bool("flip_normals")?.unwrap_or(false);
+    if flip && kind != "rectangle" {
+        return Err(unsupported(
+            node,
+            "flip_normals on this shape (rectangles only)",
+        ));
+    }
+    let mut desc = blank(ShapeType::Sphere);
+    let bounds = match kind {
+        "sphere" => {
+            let center = p.point("center")?.unwrap_or(DVec3::ZERO);
+            let radius = p.float("radius")?.unwrap_or(1.0);
+            desc.center = Some(center.as_vec3().to_array());
+            desc.radius = Some(radius as f32);
+            desc.transform = to_brume(&to_world, at)?;
+            Some(box_bounds(&to_world, center, DVec3::splat(radius)))
+        }
+        "cube" => {
+            desc.kind = ShapeType::Box;
+            desc.center = Some([0.0; 3]);
+            desc.size = Some(vec![2.0; 3]);
+            desc.transform = to_brume(&to_world, at)?;
+            Some(box_bounds(&to_world, DVec3::ZERO, DVec3::ONE))
+        }
+        "rectangle" => {
+            rectangle(&mut desc, &to_world, flip, at)?;
+            let half = DVec3::new(1.0, 1.0, 0.0);
+            Some(box_bounds(&to_world, DVec3::ZERO, half))
+        }
+        "obj" => {
+            obj(ctx, p, &mut desc)?;
+            desc.transform = to_brume(&to_world, at)?;
+            None
+        }
+        _ => {
+            return Err(unsupported(
+                node,
+                "this shape (sphere, cube, rectangle, obj)",
+            ))
+        }
+    };
+    Ok((desc, bounds))
+}
+
+/// `<shape type="obj">`: the file; face normals are refused.
+fn obj(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc) -> Result<()> {
+    let (name, file_at) = p
+        .string("filename")?
+        .ok_or_else(|| p.owner.error("give <string name=\"filename\">"))?;
+    desc.kind = ShapeType::Mesh;
+    desc.file = Some(ctx.file(name, file_at)?);
+    if p.bool("face_normals")? == Some(true) {
+        return Err(unsupported(
+            p.owner,
+            "face_normals (brume shades with the OBJ's vertex normals when it has them)",
+        ));
+    }
+    p.bool("flip_tex_coords")?; // only matters to textures, which are refused
+    Ok(())
+}
+
+/// A shape description with nothing set but its type.
+fn blank(kind: ShapeType) -> ShapeDesc {
+    ShapeDesc {
+        kind,
+        center: None,
+        radius: None,
+        normal: None,
+        size: None,
+        u_axis: None,
+        file: None,
+        material: None,
+        emission: None,
+        two_sided: false,
+        transform: None,
+        interior: None,
+    }
+}
+
+/// Mitsuba's rectangle: [-1, 1]² in the local XY plane, normal +Z, mapped by `m`.
+fn rectangle(desc: &mut ShapeDesc, m: &DMat4, flip: bool, at: &Node) -> Result<()> {
+    let Some((cols, lengths)) = axes(m) else {
+        return Err(unsupported(
+            at,
+            "a rectangle to_world with shear (a parallelogram)",
+        ));
+    };
+    let linear = DMat3::from_mat4(*m);
+    let normal = (linear.inverse().transpose() * DVec3::Z).normalize();
+    let normal = if flip { -normal } else { normal };
+    desc.kind = ShapeType::Quad;
+    desc.center = Some(m.transform_point3(DVec3::ZERO).as_vec3().to_array());
+    desc.normal = Some(normal.as_vec3().to_array());
+    desc.u_axis = Some((cols[0] / lengths.x).as_vec3().to_array());
+    desc.size = Some(vec![2.0 * lengths.x as f32, 2.0 * lengths.y as f32]);
+    Ok(())
+}
+
+/// World bounds of the local box `center ± half` mapped by `m`.
+fn box_bounds(m: &DMat4, center: DVec3, half: DVec3) -> (DVec3, DVec3) {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for i in 0..8 {
+        let sign = DVec3::new(
+            if i & 1 == 0 { -1.0 } else { 1.0 },
+            if i & 2 == 0 { -1.0 } else { 1.0 },
+            if i & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        let p = m.transform_point3(center + sign * half);
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    (lo, hi)
+}

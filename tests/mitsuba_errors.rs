@@ -1,0 +1,261 @@
+//! What the Mitsuba importer refuses: one line `FILE:LINE: <element>: why`,
+//! exit code 2, never a panic (also for mangled files).
+
+use proptest::prelude::*;
+use std::path::PathBuf;
+
+fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+const SENSOR: &str = r#"<sensor type="perspective"/>"#;
+
+/// The import error of a scene whose `body` follows a sensor on line 2.
+fn error(body: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let sensor = if body.contains("<sensor") { "" } else { SENSOR };
+    let text = format!("<scene version=\"3.0.0\">\n{sensor}\n{body}\n</scene>");
+    let path = write(&dir, "bad.xml", &text);
+    match brume::scene::mitsuba::import(&path, vec![]) {
+        Ok(_) => panic!("accepted: {body}"),
+        Err(e) => {
+            let message = e.to_string();
+            let shown = message.replace(&dir.path().display().to_string(), "DIR");
+            assert!(!shown.contains('\n'), "more than one line: {shown}");
+            shown
+        }
+    }
+}
+
+#[track_caller]
+fn refuses(body: &str, line: u32, element: &str, words: &str) {
+    let shown = error(body);
+    let head = format!("DIR/bad.xml:{line}: {element}: ");
+    assert!(shown.starts_with(&head), "want `{head}...`, got `{shown}`");
+    assert!(shown.contains(words), "want `{words}` in `{shown}`");
+}
+
+#[test]
+fn elements_outside_the_subset_are_refused_by_element_and_line() {
+    refuses(
+        r#"<shape type="sphere">
+        <bsdf type="plastic"/></shape>"#,
+        4,
+        r#"<bsdf type="plastic">"#,
+        "not supported",
+    );
+    refuses(
+        r#"<shape type="disk"/>"#,
+        3,
+        r#"<shape type="disk">"#,
+        "not supported",
+    );
+    refuses(
+        r#"<shape type="ply"/>"#,
+        3,
+        r#"<shape type="ply">"#,
+        "not supported",
+    );
+    refuses(
+        r#"<medium type="heterogeneous" id="m"/><shape type="sphere"><point name="center" z="-5"/><bsdf type="null"/><ref name="interior" id="m"/></shape>"#,
+        3,
+        r#"<medium type="heterogeneous" id="m">"#,
+        "heterogeneous",
+    );
+    refuses(
+        r#"<emitter type="spot"/>"#,
+        3,
+        r#"<emitter type="spot">"#,
+        "beam_width",
+    );
+    refuses(
+        r#"<shape type="sphere"><bsdf type="roughconductor"/></shape>"#,
+        3,
+        r#"<bsdf type="roughconductor">"#,
+        "Beckmann",
+    );
+    refuses(
+        r#"<shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape>"#,
+        3,
+        r#"<texture type="checkerboard" name="reflectance">"#,
+        "textures",
+    );
+    refuses(
+        r#"<shape type="sphere"><spectrum name="x" value="400:1, 500:2"/></shape>"#,
+        3,
+        r#"<spectrum name="x">"#,
+        "not supported",
+    );
+}
+
+#[test]
+fn a_parameter_nothing_reads_is_refused_not_ignored() {
+    refuses(
+        r#"<shape type="sphere">
+        <float name="radiuss" value="2"/></shape>"#,
+        4,
+        r#"<float name="radiuss">"#,
+        r#"this parameter of <shape type="sphere">"#,
+    );
+}
+
+#[test]
+fn mistakes_in_the_file_mechanics_name_their_element() {
+    refuses(
+        r#"<shape type="sphere"><float name="radius" value="$r"/></shape>"#,
+        3,
+        r#"<float name="radius">"#,
+        "`$r` is not defined",
+    );
+    refuses(
+        r#"<shape type="sphere"><ref id="nope"/></shape>"#,
+        3,
+        "<ref id=\"nope\">",
+        "no element has id",
+    );
+    refuses(
+        r#"<shape type="sphere"><float name="radius" value="two"/></shape>"#,
+        3,
+        r#"<float name="radius">"#,
+        "not a finite number",
+    );
+    refuses(
+        r#"<shape type="sphere"><transform name="to_world"><shear/></transform></shape>"#,
+        3,
+        "<shear>",
+        "unknown transform operation",
+    );
+    refuses(
+        r#"<shape type="cube"><transform name="to_world"><scale x="-1"/></transform></shape>"#,
+        3,
+        r#"<transform name="to_world">"#,
+        "mirroring",
+    );
+    refuses(
+        r#"<integrator type="path"><integer name="max_depth" value="0"/></integrator>"#,
+        3,
+        r#"<integer name="max_depth">"#,
+        "renders nothing",
+    );
+    refuses(
+        r#"<bsdf type="diffuse" id="a"/><bsdf type="diffuse" id="a"/>"#,
+        3,
+        r#"<bsdf type="diffuse" id="a">"#,
+        "already used",
+    );
+    refuses(
+        r#"<shape type="sphere"><emitter type="area"/><emitter type="point"/></shape>"#,
+        3,
+        r#"<emitter type="point">"#,
+        "not supported",
+    );
+    let shown = error("<shape type=\"sphere\">\n<float name=\"radius\" value=\"1\">\n</shape>");
+    assert!(shown.starts_with("DIR/bad.xml:5: XML: "), "{shown}");
+}
+
+#[test]
+fn media_arrangements_brume_would_render_differently_are_refused() {
+    // a sphere poking into a smoke cube without saying it is in the smoke
+    refuses(
+        r#"<medium type="homogeneous" id="m"/>
+        <shape type="cube"><transform name="to_world"><translate z="-5"/></transform><bsdf type="null"/><ref name="interior" id="m"/></shape>
+        <shape type="sphere"><point name="center" z="-4"/></shape>"#,
+        5,
+        r#"<shape type="sphere">"#,
+        "last interface crossed",
+    );
+    // camera in fog, one shape without the fog outside it
+    refuses(
+        r#"<medium type="homogeneous" id="fog"/><sensor type="perspective"><ref id="fog"/></sensor>
+        <shape type="sphere"><point name="center" z="-4"/><ref name="exterior" id="fog"/></shape>
+        <shape type="sphere"><point name="center" z="4"/></shape>"#,
+        5,
+        r#"<shape type="sphere">"#,
+        "without exterior",
+    );
+    // fog around shapes while the camera is in vacuum
+    refuses(
+        r#"<medium type="homogeneous" id="fog"/>
+        <shape type="sphere"><point name="center" z="-4"/><ref name="exterior" id="fog"/></shape>"#,
+        4,
+        r#"<ref name="exterior" id="fog">"#,
+        "sensor is in no medium",
+    );
+}
+
+#[test]
+fn includes_that_loop_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = write(
+        &dir,
+        "a.xml",
+        &format!("<scene version=\"3.0.0\">{SENSOR}\n<include filename=\"b.xml\"/></scene>"),
+    );
+    write(
+        &dir,
+        "b.xml",
+        "<scene version=\"3.0.0\">\n\n<include filename=\"a.xml\"/></scene>",
+    );
+    let e = brume::scene::mitsuba::import(&a, vec![])
+        .err()
+        .expect("a cycle was accepted")
+        .to_string();
+    assert!(
+        e.contains("b.xml:3: <include>") && e.contains("include cycle"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_command_line_prints_one_line_and_exits_with_2() {
+    let dir = tempfile::tempdir().unwrap();
+    write(&dir, "s.xml", &format!("<scene version=\"3.0.0\">{SENSOR}\n<shape type=\"sphere\"><bsdf type=\"plastic\"/></shape></scene>"));
+    let out = assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .current_dir(dir.path())
+        .args(["render", "s.xml", "--out", "o.exr", "--png", "o.png"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("s.xml:2: <bsdf type=\"plastic\">"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("o.exr").exists());
+}
+
+const GOOD: &str = include_str!("data/mitsuba/fog_box.xml");
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+    /// Cut or overwritten anywhere, a scene is imported or refused, never a panic.
+    #[test]
+    fn mangled_scenes_never_panic(at in 0usize..GOOD.len(), byte in 0u8..128, cut in any::<bool>()) {
+        let mut text = GOOD.as_bytes().to_vec();
+        if cut { text.truncate(at) } else { text[at] = byte }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.xml");
+        std::fs::write(&path, &text).unwrap();
+        let _ = brume::scene::mitsuba::import(&path, vec![]);
+    }
+}
+
+#[test]
+fn a_value_brume_rejects_when_building_is_reported_at_its_element() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        &dir,
+        "b.xml",
+        &format!("<scene version=\"3.0.0\">{SENSOR}\n\n<shape type=\"sphere\"><float name=\"radius\" value=\"-1\"/></shape></scene>"),
+    );
+    let e = brume::scene::load_with_inputs(&path)
+        .err()
+        .expect("a negative radius was accepted")
+        .to_string();
+    assert!(e.contains("b.xml:3: <shape type=\"sphere\">: "), "{e}");
+    assert!(e.contains("(brume's `shape[0].radius`)"), "{e}");
+}

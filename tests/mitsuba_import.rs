@@ -1,0 +1,318 @@
+//! The Mitsuba 3 importer's file mechanics and unit conversions: what each
+//! element and attribute becomes in brume's scene description.
+
+use brume::scene::description::{LightDesc, MaterialDesc, MediumDesc, PhaseDesc, SceneDesc};
+use brume::scene::mitsuba::import;
+use std::path::{Path, PathBuf};
+
+/// Writes `files` (name, text) into a fresh folder; returns it (kept alive) and the first file.
+fn write(files: &[(&str, &str)]) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        let path = dir.path().join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, text).unwrap();
+    }
+    let first = dir.path().join(files[0].0);
+    (dir, first)
+}
+
+const SENSOR: &str = r#"<sensor type="perspective"><float name="fov" value="45"/></sensor>"#;
+
+/// A scene of `body` with a plain sensor (unless `body` has its own).
+fn scene(body: &str) -> String {
+    let sensor = if body.contains("<sensor") { "" } else { SENSOR };
+    format!("<scene version=\"3.0.0\">{sensor}{body}</scene>")
+}
+
+fn load(body: &str, overrides: &[(&str, &str)]) -> SceneDesc {
+    let (_dir, path) = write(&[("scene.xml", &scene(body))]);
+    let overrides = overrides
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    import(&path, overrides)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .desc
+}
+
+const SPHERE_R: &str = r#"<default name="r" value="2"/><default name="kind" value="sphere"/>
+    <shape type="$kind"><float name="radius" value="$r"/></shape>"#;
+
+#[test]
+fn a_default_is_substituted_also_inside_type_and_the_command_line_wins() {
+    assert_eq!(load(SPHERE_R, &[]).shapes[0].radius, Some(2.0));
+    assert_eq!(load(SPHERE_R, &[("r", "3")]).shapes[0].radius, Some(3.0));
+    let cube = load(
+        r#"<default name="kind" value="sphere"/><shape type="$kind"/>"#,
+        &[("kind", "cube")],
+    );
+    assert_eq!(cube.shapes[0].size, Some(vec![2.0; 3]));
+}
+
+#[test]
+fn includes_are_found_relative_to_the_including_file_and_path_folders_are_searched() {
+    let (_dir, path) = write(&[
+        ("scene.xml", &scene(r#"<include filename="parts/a.xml"/>"#)),
+        (
+            "parts/a.xml",
+            &scene(r#"<include filename="b.xml"/><shape type="sphere"/>"#).replace(SENSOR, ""),
+        ),
+        (
+            "parts/b.xml",
+            r#"<scene version="3.0.0"><path value="meshes"/><shape type="obj"><string name="filename" value="m.obj"/></shape></scene>"#,
+        ),
+        ("parts/meshes/m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    ]);
+    let imported = import(&path, vec![]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(imported.files.len(), 3);
+    let shapes = &imported.desc.shapes;
+    assert_eq!(shapes.len(), 2);
+    let mesh = shapes[0].file.as_ref().unwrap();
+    assert!(mesh.ends_with("parts/meshes/m.obj"), "{}", mesh.display());
+}
+
+#[test]
+fn transforms_compose_in_the_order_written() {
+    let placed = |ops: &str| {
+        let desc = load(
+            &format!(
+                r#"<shape type="sphere"><transform name="to_world">{ops}</transform></shape>"#
+            ),
+            &[],
+        );
+        let t = desc.shapes[0].transform.as_ref().unwrap();
+        (t.translate, t.scale.map(|s| s.0))
+    };
+    // translate, then scale: the translation is scaled too.
+    assert_eq!(
+        placed(r#"<translate x="1"/><scale value="2"/>"#),
+        (Some([2.0, 0.0, 0.0]), Some([2.0; 3]))
+    );
+    assert_eq!(
+        placed(r#"<scale value="2"/><translate x="1"/>"#),
+        (Some([1.0, 0.0, 0.0]), Some([2.0; 3]))
+    );
+    // a matrix is row-major, like Mitsuba's
+    assert_eq!(
+        placed(r#"<matrix value="1 0 0 5  0 1 0 6  0 0 1 7  0 0 0 1"/>"#),
+        (Some([5.0, 6.0, 7.0]), None)
+    );
+}
+
+#[test]
+fn rotations_are_right_handed_and_a_rectangle_faces_its_turned_z() {
+    let desc = load(
+        r#"<shape type="rectangle"><transform name="to_world"><scale x="2" y="3"/><rotate y="1" angle="90"/><translate z="4"/></transform></shape>"#,
+        &[],
+    );
+    let quad = &desc.shapes[0];
+    assert_eq!(
+        quad.normal,
+        Some([1.0, 0.0, 0.0]),
+        "+Z turned 90° about +Y is +X"
+    );
+    assert_eq!(
+        quad.u_axis,
+        Some([0.0, 0.0, -1.0]),
+        "+X turned 90° about +Y is -Z"
+    );
+    assert_eq!(quad.size, Some(vec![4.0, 6.0]));
+    assert_eq!(quad.center, Some([0.0, 0.0, 4.0]));
+    let flipped = load(
+        r#"<shape type="rectangle"><boolean name="flip_normals" value="true"/></shape>"#,
+        &[],
+    );
+    assert_eq!(flipped.shapes[0].normal, Some([0.0, 0.0, -1.0]));
+}
+
+/// The camera's fov in brume's terms for `params` on a `w`×`h` film.
+fn camera(params: &str, w: u32, h: u32) -> (f32, String) {
+    let desc = load(
+        &format!(
+            r#"<sensor type="perspective">{params}<film type="hdrfilm"><integer name="width" value="{w}"/><integer name="height" value="{h}"/></film></sensor>"#
+        ),
+        &[],
+    );
+    (desc.camera.fov, desc.camera.fov_axis.unwrap())
+}
+
+#[test]
+fn the_field_of_view_is_converted_from_each_axis_and_from_a_focal_length() {
+    let fov = |axis: &str| {
+        camera(
+            &format!(r#"<float name="fov" value="50"/><string name="fov_axis" value="{axis}"/>"#),
+            200,
+            100,
+        )
+    };
+    assert_eq!(
+        camera(r#"<float name="fov" value="50"/>"#, 200, 100),
+        (50.0, "x".into()),
+        "x is Mitsuba's default axis"
+    );
+    assert_eq!(fov("y"), (50.0, "y".into()));
+    assert_eq!(fov("smaller"), (50.0, "y".into()));
+    assert_eq!(fov("larger"), (50.0, "x".into()));
+    // diagonal: tan(x/2) = tan(d/2)·w/√(w²+h²)
+    let want = 2.0
+        * ((25f64.to_radians().tan()) * 200.0 / 50000f64.sqrt())
+            .atan()
+            .to_degrees();
+    let (got, axis) = fov("diagonal");
+    assert_eq!(axis, "x");
+    assert!((got as f64 - want).abs() < 1e-4, "{got} vs {want}");
+    // 50mm (Mitsuba's default) on a 36×24 mm frame: the diagonal fov, then as above
+    let diagonal = 2.0 * (1872f64.sqrt() / 100.0).atan();
+    let want = 2.0
+        * ((diagonal / 2.0).tan() * 200.0 / 50000f64.sqrt())
+            .atan()
+            .to_degrees();
+    for params in ["", r#"<string name="focal_length" value="50mm"/>"#] {
+        let (got, _) = camera(params, 200, 100);
+        assert!(
+            (got as f64 - want).abs() < 1e-4,
+            "{params}: {got} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn max_depth_counts_segments_in_mitsuba_and_scattering_events_in_brume() {
+    let depth = |d: &str| {
+        load(
+            &format!(
+                r#"<integrator type="volpath"><integer name="max_depth" value="{d}"/></integrator>"#
+            ),
+            &[],
+        )
+        .integrator
+        .max_depth
+    };
+    assert_eq!(depth("1"), 0, "1: only emitters seen directly");
+    assert_eq!(depth("2"), 1, "2: direct lighting");
+    assert_eq!(depth("-1"), u32::MAX);
+    assert_eq!(
+        load("", &[]).integrator.max_depth,
+        u32::MAX,
+        "Mitsuba's default is unlimited"
+    );
+}
+
+#[test]
+fn sampler_film_and_named_iors_map_to_their_values() {
+    let desc = load(
+        r#"<sensor type="perspective"><sampler type="independent"><integer name="sample_count" value="9"/><integer name="seed" value="4"/></sampler></sensor>
+        <shape type="sphere"><bsdf type="dielectric"><string name="int_ior" value="diamond"/><float name="ext_ior" value="1.2"/></bsdf></shape>
+        <shape type="sphere"><bsdf type="dielectric"/></shape>"#,
+        &[],
+    );
+    assert_eq!((desc.integrator.spp, desc.integrator.seed), (9, 4));
+    assert_eq!(desc.integrator.sampler, "independent");
+    assert_eq!(desc.camera.resolution, [768, 576], "hdrfilm's default size");
+    let ior = |i: usize| match &desc.shapes[i].material {
+        Some(MaterialDesc::Dielectric { ior, .. }) => *ior,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(ior(0), (2.419f64 / 1.2) as f32);
+    assert_eq!(
+        ior(1),
+        (1.5046f64 / 1.000277) as f32,
+        "bk7 in air by default"
+    );
+}
+
+#[test]
+fn colours_medium_coefficients_and_phase_defaults_follow_mitsuba() {
+    let desc = load(
+        r#"<medium type="homogeneous" id="m"><spectrum name="sigma_t" value="2"/><float name="scale" value="0.5"/><phase type="hg"/></medium>
+        <shape type="sphere"><point name="center" z="-5"/><bsdf type="null"/><ref name="interior" id="m"/></shape>"#,
+        &[],
+    );
+    match &desc.shapes[0].interior {
+        Some(MediumDesc::Homogeneous {
+            sigma_t,
+            albedo,
+            phase,
+            ..
+        }) => {
+            assert_eq!(sigma_t.unwrap().0, [1.0; 3], "scale × sigma_t");
+            assert_eq!(albedo.unwrap().0, [0.75; 3], "Mitsuba's default albedo");
+            assert!(
+                matches!(phase, Some(PhaseDesc::Hg { g }) if *g == 0.8),
+                "{phase:?}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        desc.shapes[0].material.is_none(),
+        "null: an index-matched boundary"
+    );
+}
+
+#[test]
+fn emitters_take_mitsubas_defaults_and_the_envmap_turns_a_quarter() {
+    let desc = load(
+        r#"<emitter type="point"/><emitter type="spot"><float name="cutoff_angle" value="30"/><float name="beam_width" value="30"/></emitter>
+        <emitter type="directional"/>"#,
+        &[],
+    );
+    assert!(
+        matches!(desc.lights[0], LightDesc::Point { position: [0.0, 0.0, 0.0], intensity } if intensity.0 == [1.0; 3])
+    );
+    match &desc.lights[1] {
+        LightDesc::Spot {
+            look_at,
+            cone_angle,
+            cone_falloff,
+            ..
+        } => {
+            assert_eq!(
+                (*look_at, *cone_angle, *cone_falloff),
+                ([0.0, 0.0, 1.0], 30.0, Some(0.0))
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        matches!(desc.lights[2], LightDesc::Sun { direction: [0.0, 0.0, 1.0], angular_radius, .. } if angular_radius == 0.0)
+    );
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sky.exr");
+    let env = load(
+        &format!(
+            r#"<emitter type="envmap"><string name="filename" value="{}"/><transform name="to_world"><rotate x="1" angle="90"/></transform></emitter>"#,
+            root.display()
+        ),
+        &[],
+    );
+    match &env.lights[0] {
+        // Rx(90°)·Ry(90°): brume's rotate about X, then Y, then Z.
+        LightDesc::EnvironmentMap {
+            rotate: Some(r), ..
+        } => {
+            let q = glam::Quat::from_rotation_z(r[2].to_radians())
+                * glam::Quat::from_rotation_y(r[1].to_radians())
+                * glam::Quat::from_rotation_x(r[0].to_radians());
+            let want = glam::Quat::from_rotation_x(90f32.to_radians())
+                * glam::Quat::from_rotation_y(90f32.to_radians());
+            assert!(q.dot(want).abs() > 1.0 - 1e-6, "{r:?}");
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_medium_outside_every_shape_becomes_global() {
+    let desc = load(
+        r#"<medium type="homogeneous" id="fog"><float name="sigma_t" value="0.1"/></medium>
+        <sensor type="perspective"><ref id="fog"/></sensor>
+        <shape type="sphere"><ref name="exterior" id="fog"/></shape>"#,
+        &[],
+    );
+    assert!(matches!(
+        desc.media[0],
+        MediumDesc::Homogeneous { global: true, .. }
+    ));
+    assert!(desc.shapes[0].interior.is_none());
+}
