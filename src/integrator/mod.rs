@@ -68,6 +68,8 @@ pub struct Settings {
     pub sampler: SamplerKind,
     /// Photon counts and radii of `integrator = sppm` (unused by the others).
     pub sppm: sppm::SppmSettings,
+    /// Adaptive sampling and the noise target (`integrator.adaptive`, `integrator.noise`).
+    pub adaptive: crate::render::adaptive::AdaptiveSettings,
 }
 
 impl Settings {

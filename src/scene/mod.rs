@@ -33,8 +33,9 @@ use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
 use crate::light::{Environment, Light, LightPick};
 use crate::material::texture::Texture;
+use crate::render::adaptive::{AdaptiveSettings, MAX_NOISE};
 use crate::sampling::SamplerKind;
-use description::{LightDesc, SceneDesc};
+use description::{IntegratorDesc, LightDesc, SceneDesc};
 use mlt_keys::{build_mlt, refuse_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
@@ -475,7 +476,45 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
                 ))
             }
         },
+        adaptive: build_adaptive(integ, check)?,
     })
+}
+
+/// `integrator.adaptive` and `integrator.noise`: adaptive by default with a noise target.
+fn build_adaptive(integ: &IntegratorDesc, check: &Check) -> Result<AdaptiveSettings> {
+    let noise = match integ.noise {
+        Some(v) => Some(check.range("integrator.noise", v, 0.0, MAX_NOISE, false)?),
+        None => None,
+    };
+    let settings = AdaptiveSettings {
+        adaptive: integ.adaptive.unwrap_or(noise.is_some()),
+        noise,
+    };
+    let field = match noise {
+        Some(_) => "integrator.noise",
+        None => "integrator.adaptive",
+    };
+    if settings.piloted() && integ.kind != "path" {
+        return Err(check.error(
+            field,
+            format!(
+                "adaptive sampling and noise targets need type = \"path\" (this scene's is \"{}\"); \
+                 leave the key out or set adaptive = false without noise",
+                integ.kind
+            ),
+        ));
+    }
+    if settings.piloted() && integ.spp < crate::render::adaptive::MIN_SPP {
+        return Err(check.error(
+            "integrator.spp",
+            format!(
+                "adaptive sampling and noise targets need at least {} samples per pixel, got {}",
+                crate::render::adaptive::MIN_SPP,
+                integ.spp
+            ),
+        ));
+    }
+    Ok(settings)
 }
 
 /// The area lights of emissive shapes (indexed by shape) followed by the
