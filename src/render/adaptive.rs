@@ -47,6 +47,10 @@ pub const FLOOR_FRACTION: f64 = 0.1;
 /// Noise targets are below this relative error.
 pub const MAX_NOISE: f32 = 1.0;
 
+/// Without a noise target, a pixel takes at most this many times the
+/// render's spp (the mean the render reaches).
+pub const MAX_FACTOR: u32 = 16;
+
 /// The fewest spp a piloted render may have (twice the smallest pilot).
 pub const MIN_SPP: u32 = 8;
 

@@ -2,7 +2,7 @@
 //! of the image, then image passes of rising level, each pixel's samples
 //! fixed by the plan before the pass starts.
 
-use super::adaptive::{pilot_seed, pilot_spp, AdaptiveSettings, NoiseReport, Plan};
+use super::adaptive::{pilot_seed, pilot_spp, AdaptiveSettings, NoiseReport, Plan, MAX_FACTOR};
 use super::group::Group;
 use super::run::{Piloted, Run};
 use super::{Estimator, PassObserver};
@@ -21,7 +21,7 @@ impl<E: Estimator> Run<'_, E> {
             !self.job.estimator.splats() && self.job.estimator.pass_samples().is_none(),
             "adaptive sampling and noise targets take the path tracer's pixel samples only"
         );
-        let cap = self.cap();
+        let cap = self.cap(settings);
         let pilot = pilot_spp(self.options.spp);
         let Some(pilot_sums) = self.pilot(pilot) else {
             self.partial = true;
@@ -77,12 +77,16 @@ impl<E: Estimator> Run<'_, E> {
         self.bar.finish_and_clear();
     }
 
-    /// The most image samples of a pixel: the spp, unless a time budget
-    /// alone bounds the render.
-    fn cap(&self) -> u32 {
+    /// The most image samples of a pixel: the spp with a noise target or a
+    /// capped time budget, [`MAX_FACTOR`] times the spp when the spp is the
+    /// mean to reach, unbounded when a time budget alone bounds the render.
+    fn cap(&self, settings: AdaptiveSettings) -> u32 {
+        let spp = self.options.spp;
         match (self.options.time_budget, self.options.spp_is_cap) {
             (Some(_), false) => u32::MAX / 2,
-            _ => self.options.spp,
+            (Some(_), true) => spp,
+            (None, _) if settings.noise.is_some() => spp,
+            (None, _) => spp.saturating_mul(MAX_FACTOR),
         }
     }
 
