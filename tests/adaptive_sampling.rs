@@ -77,7 +77,10 @@ fn a_noise_target_leaves_the_furnace_unbiased_and_is_met() {
     let target = 0.02;
     let scene = with_adaptive(furnace(32, 35.0), true, Some(target));
     let out = run(&scene, 4096, 2);
-    let report = out.noise.clone().expect("a piloted render reports its noise");
+    let report = out
+        .noise
+        .clone()
+        .expect("a piloted render reports its noise");
     assert!(report.error <= target as f64, "{report:?}");
     assert!(report.min_spp < report.max_spp, "{report:?}");
     let pixels = pixel_estimates(&out.film);
@@ -114,7 +117,12 @@ fn adaptive_sampling_beats_uniform_at_equal_samples_where_noise_is_uneven() {
     let spp = 64;
     let uniform = run(&furnace(32, 60.0), spp, 2);
     let adaptive = run(&with_adaptive(furnace(32, 60.0), true, None), spp, 2);
-    assert!(adaptive.samples <= uniform.samples, "{} vs {}", adaptive.samples, uniform.samples);
+    assert!(
+        adaptive.samples <= uniform.samples,
+        "{} vs {}",
+        adaptive.samples,
+        uniform.samples
+    );
     let pixels = pixel_estimates(&adaptive.film);
     assert_pixels_equal(&pixels, [L; 3], "adaptive furnace at 64 spp");
     // The exact background pixels get the minimum, the sphere far more.
@@ -137,4 +145,3 @@ fn adaptive_renders_do_not_depend_on_the_thread_count() {
     assert_eq!(one.film.squares, two.film.squares);
     assert_eq!(one.noise, two.noise);
 }
-

@@ -1,9 +1,9 @@
 //! One render from its first pass to its film: groups of passes while the
 //! budget lasts, each finished pass added to the film in pass order.
 
+use super::adaptive::NoiseReport;
 use super::group::{Buffers, Group, RayCounts};
 use super::{pass_pixel_bytes, Estimator, Job, PassObserver, RenderOptions, RenderOutput};
-use super::adaptive::NoiseReport;
 use crate::film::{Film, SampleRange};
 use crate::integrator::aov::Aov;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -221,8 +221,11 @@ impl<'a, E: Estimator> Run<'a, E> {
         };
         image.partial = self.partial;
         let samples = match &self.piloted {
-            Some(p) => p.pilot_samples + self.film.counts.iter().map(|&n| n as u64).sum::<u64>()
-                + self.film.nonfinite.iter().map(|&n| n as u64).sum::<u64>(),
+            Some(p) => {
+                p.pilot_samples
+                    + self.film.counts.iter().map(|&n| n as u64).sum::<u64>()
+                    + self.film.nonfinite.iter().map(|&n| n as u64).sum::<u64>()
+            }
             None => self.spp_done as u64 * part.crop.area() as u64,
         };
         RenderOutput {

@@ -148,7 +148,10 @@ fn apply_adaptive(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Re
     }
     if args.split.is_piece() {
         let (name, what) = match flag {
-            "" => ("--samples", "the scene's integrator.noise or integrator.adaptive"),
+            "" => (
+                "--samples",
+                "the scene's integrator.noise or integrator.adaptive",
+            ),
             f => (f, "adaptive sampling and noise targets"),
         };
         return Err(argument(

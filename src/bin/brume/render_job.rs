@@ -287,7 +287,10 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
 /// A piloted render's counts and estimated error; a warning when the noise target was missed.
 fn report_noise(out: &brume::render::RenderOutput) {
     let Some(r) = &out.noise else { return };
-    let target = r.target.map(|t| format!(" (target {t})")).unwrap_or_default();
+    let target = r
+        .target
+        .map(|t| format!(" (target {t})"))
+        .unwrap_or_default();
     eprintln!(
         "{}: pilot {} spp (not in the image), image {}-{} spp per pixel (mean {:.1}), \
          estimated relative error {:.4}{target}",
