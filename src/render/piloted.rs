@@ -54,10 +54,16 @@ impl<E: Estimator> Run<'_, E> {
             }
             let level_k = level.min(goal);
             let counts = plan.counts(level_k);
+            let pass_start = std::time::Instant::now();
             if !self.image_pass(&done, &counts) {
                 self.partial = true;
                 break;
             }
+            let pass_samples: u64 = counts
+                .iter()
+                .zip(&done)
+                .map(|(&c, &d)| (c - d) as u64)
+                .sum();
             done = counts;
             self.record(&plan, &done);
             if let Some(observe) = on_pass.as_mut() {
@@ -65,16 +71,36 @@ impl<E: Estimator> Run<'_, E> {
                 image.partial = true;
                 observe(&image);
             }
-            let over_time = self
-                .options
-                .time_budget
-                .is_some_and(|t| self.start.elapsed() >= t);
-            if level_k >= goal || over_time || done.iter().all(|&c| c >= cap) {
+            if level_k >= goal || done.iter().all(|&c| c >= cap) {
                 break;
             }
-            level = level_k * 2.0;
+            match self.next_level(&plan, level_k, pass_samples, pass_start.elapsed()) {
+                Some(next) => level = next,
+                None => break,
+            }
         }
         self.bar.finish_and_clear();
+    }
+
+    /// The level of the next pass: double this one's, or with a time budget
+    /// as far as the time left allows at the last pass's rate (`took` for
+    /// `pass_samples`); None when the time is spent.
+    fn next_level(
+        &self,
+        plan: &Plan,
+        level: f64,
+        pass_samples: u64,
+        took: std::time::Duration,
+    ) -> Option<f64> {
+        let Some(budget) = self.options.time_budget else {
+            return Some(level * 2.0);
+        };
+        let left = budget.checked_sub(self.start.elapsed())?.as_secs_f64();
+        let rate = pass_samples as f64 / took.as_secs_f64().max(1e-6);
+        let allowed = (rate * left) as u64;
+        let now = plan.total(level);
+        let next = plan.level_within(level, 2.0 * level, now + allowed);
+        (plan.total(next) > now).then_some(next)
     }
 
     /// The most image samples of a pixel: the spp with a noise target or a
