@@ -32,19 +32,7 @@ impl<E: Estimator> Run<'_, E> {
         let plan = Plan::new(&pilot_sums, w, settings.adaptive, pilot, cap);
         let goal = self.goal(&plan, settings, pilot);
         let n = pilot_sums.len();
-        self.piloted = Some(Piloted {
-            pilot_samples: pilot as u64 * n as u64,
-            max_count: 0,
-            report: NoiseReport {
-                pilot_spp: pilot,
-                adaptive: settings.adaptive,
-                target: settings.noise,
-                error: f64::INFINITY,
-                min_spp: 0,
-                mean_spp: 0.0,
-                max_spp: 0,
-            },
-        });
+        self.begin(pilot, n, settings);
         let mut done = vec![0u32; n];
         let mut level = pilot as f64;
         loop {
@@ -101,6 +89,23 @@ impl<E: Estimator> Run<'_, E> {
         let now = plan.total(level);
         let next = plan.level_within(level, 2.0 * level, now + allowed);
         (plan.total(next) > now).then_some(next)
+    }
+
+    /// Records that the pilot of `pilot` spp over `n` pixels is done.
+    fn begin(&mut self, pilot: u32, n: usize, settings: AdaptiveSettings) {
+        self.piloted = Some(Piloted {
+            pilot_samples: pilot as u64 * n as u64,
+            max_count: 0,
+            report: NoiseReport {
+                pilot_spp: pilot,
+                adaptive: settings.adaptive,
+                target: settings.noise,
+                error: f64::INFINITY,
+                min_spp: 0,
+                mean_spp: 0.0,
+                max_spp: 0,
+            },
+        });
     }
 
     /// The most image samples of a pixel: the spp with a noise target or a
