@@ -16,6 +16,7 @@ fn settings(shutter: Option<[f32; 2]>) -> Settings {
         shutter,
         sampler: brume::sampling::SamplerKind::Independent,
         sppm: Default::default(),
+        adaptive: Default::default(),
     }
 }
 

@@ -52,6 +52,13 @@ pub fn merge(pieces: &[(PathBuf, Film)]) -> Result<Merged> {
         return Err(refuse("no piece given".into()));
     };
     for (path, film) in pieces {
+        if film.adaptive.is_some() {
+            return Err(refuse(format!(
+                "{}: an adaptive or noise-target render (brume:adaptive) holds different samples \
+                 in each pixel and cannot be merged; merge uniform renders (--adaptive off)",
+                path.display()
+            )));
+        }
         check_same_render(first_path, first, path, film)?;
     }
     check_no_overlap(pieces)?;

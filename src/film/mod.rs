@@ -110,6 +110,9 @@ pub struct Film {
     pub splats: Option<Splats>,
     /// Seed, scene and sample ranges.
     pub provenance: Provenance,
+    /// A piloted render's note (`brume:adaptive`): its pixels hold different
+    /// sample counts, so `merge` refuses it. None for a uniform render.
+    pub adaptive: Option<String>,
 }
 
 impl Film {
@@ -131,6 +134,7 @@ impl Film {
             }],
             splats: None,
             provenance,
+            adaptive: None,
         }
     }
 

@@ -6,6 +6,7 @@
 //! Both kinds of vertex do next-event estimation with transmittance-weighted
 //! shadow rays, combined by MIS with phase/BSDF sampling.
 
+pub mod adaptive_settings;
 pub mod aov;
 pub mod bdpt;
 mod direct;
@@ -68,6 +69,8 @@ pub struct Settings {
     pub sampler: SamplerKind,
     /// Photon counts and radii of `integrator = sppm` (unused by the others).
     pub sppm: sppm::SppmSettings,
+    /// Adaptive sampling and the noise target (`integrator.adaptive`, `integrator.noise`).
+    pub adaptive: adaptive_settings::AdaptiveSettings,
 }
 
 impl Settings {

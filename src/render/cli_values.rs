@@ -114,6 +114,30 @@ pub fn exposure(text: &str) -> Parsed<f32> {
     decimal(-max, max, "stops")(text).map(|v| v as f32)
 }
 
+/// `--noise TARGET`: a relative error above 0 and below 1 (e.g. 0.02).
+pub fn noise(text: &str) -> Parsed<f32> {
+    let expected = || {
+        format!(
+            "expected a relative error above 0 and below {} (e.g. 0.02 for 2 %)",
+            crate::render::adaptive::MAX_NOISE
+        )
+    };
+    let value = number(text).ok_or_else(expected)?;
+    if !(value > 0.0 && value < crate::render::adaptive::MAX_NOISE as f64) {
+        return Err(expected());
+    }
+    Ok(value as f32)
+}
+
+/// `--adaptive on|off`.
+pub fn on_off(text: &str) -> Parsed<bool> {
+    match text.trim() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err("expected on or off".into()),
+    }
+}
+
 /// The frames of `--frames`, in the order written (one value: clap takes a `Vec` field for many).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Frames(pub Vec<i64>);

@@ -8,6 +8,7 @@ use crate::integrator::aov::{aov_sample, AovPixel};
 use crate::integrator::estimator::Estimator;
 use crate::integrator::tracking::{take_thread_stats, TrackingStats};
 use crate::integrator::Scene;
+use crate::sampling::PixelStreams;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -41,6 +42,11 @@ pub(super) struct Group<'a, E> {
     pub counts: &'a [u32],
     /// Take the AOVs of every sample too.
     pub with_aovs: bool,
+    /// The seed of the pixels' streams (the scene's, or a pilot's).
+    pub seed: u64,
+    /// Each pixel's own (first sample, count) of the group's one pass, row
+    /// by row over the crop, instead of `first` and `counts` (adaptive passes).
+    pub per_pixel: Option<&'a [(u32, u32)]>,
     pub cancel: &'a AtomicBool,
     pub bar: &'a ProgressBar,
 }
@@ -180,11 +186,15 @@ impl<E: Estimator> Group<'_, E> {
         RayCounts::take_thread();
         let (x0, y0) = self.origin;
         let y = y0 + unit.y as u32;
-        let (first, count) = (tally.firsts[unit.k], self.counts[unit.k]);
+        let pass = (tally.firsts[unit.k], self.counts[unit.k]);
         for (x, px) in unit.sums.iter_mut().enumerate() {
             let aov = unit.aovs.as_deref_mut().map(|a| &mut a[x]);
             let pixel = (x0 + x as u32, y);
-            if !self.render_pixel(pixel, (first, count), px, aov, arena, splats) {
+            let samples = match self.per_pixel {
+                Some(schedule) => schedule[unit.y * self.w + x],
+                None => pass,
+            };
+            if !self.render_pixel(pixel, samples, px, aov, arena, splats) {
                 return RayCounts::default();
             }
         }
@@ -207,7 +217,7 @@ impl<E: Estimator> Group<'_, E> {
         splats: &mut Vec<Splat>,
     ) -> bool {
         let mut sums = PixelSums::default();
-        let streams = self.scene.settings.pixel_streams(x, y);
+        let streams = PixelStreams::new(self.scene.settings.sampler, self.seed, x, y);
         for s in first..first + count {
             if self.cancel.load(Ordering::Relaxed) {
                 return false;

@@ -167,6 +167,7 @@ impl<'a> Metropolis<'a> {
             tracking: TrackingStats::default(),
             truncated_interiors: 0,
             mlt: Some(stats),
+            noise: None,
         }
     }
 

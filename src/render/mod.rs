@@ -8,6 +8,7 @@
 //! so the image depends on the seed only, never on the thread count or
 //! scheduling.
 
+pub mod adaptive;
 pub mod checkpoint;
 pub mod cli_values;
 pub mod display;
@@ -15,6 +16,7 @@ pub mod display;
 mod group;
 pub mod merge_pieces;
 mod mlt;
+mod piloted;
 pub mod provenance;
 mod run;
 pub mod split;
@@ -67,6 +69,8 @@ pub struct RenderOutput {
     pub truncated_interiors: u64,
     /// A Metropolis render's bootstrap and acceptance rates (None for the other integrators).
     pub mlt: Option<crate::integrator::mlt::MltStats>,
+    /// A piloted render's sample counts and estimated error (None for uniform renders).
+    pub noise: Option<adaptive::NoiseReport>,
 }
 
 /// Bytes of the film per pixel: beauty sums and squares, finite and left-out counts.

@@ -1,6 +1,7 @@
 //! One render from its first pass to its film: groups of passes while the
 //! budget lasts, each finished pass added to the film in pass order.
 
+use super::adaptive::NoiseReport;
 use super::group::{Buffers, Group, RayCounts};
 use super::{pass_pixel_bytes, Estimator, Job, PassObserver, RenderOptions, RenderOutput};
 use crate::film::{Film, SampleRange};
@@ -11,18 +12,30 @@ use std::time::{Duration, Instant};
 
 /// A render between passes: the film so far and the buffers of the next group.
 pub(super) struct Run<'a, E> {
-    job: &'a Job<'a, E>,
-    options: &'a RenderOptions,
-    cancel: &'a AtomicBool,
+    pub(super) job: &'a Job<'a, E>,
+    pub(super) options: &'a RenderOptions,
+    pub(super) cancel: &'a AtomicBool,
     /// The AOV of each film layer after the beauty.
-    aovs: Vec<Aov>,
-    film: Film,
-    bufs: Buffers,
-    bar: ProgressBar,
-    start: Instant,
+    pub(super) aovs: Vec<Aov>,
+    pub(super) film: Film,
+    pub(super) bufs: Buffers,
+    pub(super) bar: ProgressBar,
+    pub(super) start: Instant,
     spp_done: u32,
-    partial: bool,
-    rays: RayCounts,
+    pub(super) partial: bool,
+    pub(super) rays: RayCounts,
+    /// A piloted render's samples and estimates (module `adaptive`).
+    pub(super) piloted: Option<Piloted>,
+}
+
+/// What a piloted render has taken so far.
+pub(super) struct Piloted {
+    /// Samples of the pilot (not in the image).
+    pub pilot_samples: u64,
+    /// Image samples of the pixel that holds the most.
+    pub max_count: u32,
+    /// The report so far.
+    pub report: NoiseReport,
 }
 
 impl<'a, E: Estimator> Run<'a, E> {
@@ -45,11 +58,13 @@ impl<'a, E: Estimator> Run<'a, E> {
                 options,
                 job.part.crop.height() as u64,
                 job.estimator.pass_samples(),
+                job.scene.settings.adaptive.piloted(),
             ),
             start: Instant::now(),
             spp_done: 0,
             partial: false,
             rays: RayCounts::default(),
+            piloted: None,
         }
     }
 
@@ -68,6 +83,10 @@ impl<'a, E: Estimator> Run<'a, E> {
 
     /// Renders groups of passes until the budget is spent or `cancel` is set.
     pub fn passes(&mut self, mut on_pass: Option<PassObserver>) {
+        let adaptive = self.job.scene.settings.adaptive;
+        if adaptive.piloted() {
+            return self.piloted_passes(on_pass, adaptive);
+        }
         let prepared = self.job.estimator.pass_samples();
         let pass_spp = prepared.unwrap_or_else(|| pass_size(self.options));
         let crop = self.job.part.crop;
@@ -103,6 +122,8 @@ impl<'a, E: Estimator> Run<'a, E> {
                 first,
                 counts: &counts,
                 with_aovs: !self.aovs.is_empty(),
+                seed: self.job.scene.settings.seed,
+                per_pixel: None,
                 cancel: self.cancel,
                 bar: &self.bar,
             };
@@ -136,6 +157,14 @@ impl<'a, E: Estimator> Run<'a, E> {
 
     /// Adds pass `k` of the group's buffers (`count` samples) to the film.
     fn add_pass(&mut self, k: usize, count: u32) {
+        self.add_sums(k);
+        self.spp_done += count;
+        let start = self.job.part.samples.start;
+        self.film.provenance.held = vec![SampleRange::new(start, start + self.spp_done)];
+    }
+
+    /// Adds pass `k` of the group's buffers to the film's sums and counts.
+    pub(super) fn add_sums(&mut self, k: usize) {
         let film = &mut self.film;
         let n = film.window.area();
         let pass = &self.bufs.sums[k * n..(k + 1) * n];
@@ -164,14 +193,16 @@ impl<'a, E: Estimator> Run<'a, E> {
         if let (Some(to), Some(from)) = (film.splats.as_mut(), self.bufs.pass_splats.as_ref()) {
             to.add_sums(from);
         }
-        self.spp_done += count;
-        let start = self.job.part.samples.start;
-        film.provenance.held = vec![SampleRange::new(start, start + self.spp_done)];
     }
 
     /// The film with its final provenance, the image and the statistics.
     pub fn finish(mut self) -> RenderOutput {
         let part = self.job.part;
+        if let Some(p) = &self.piloted {
+            // Each pixel holds the first `counts[i]` of samples 0..max_count (brume:count).
+            self.spp_done = p.max_count;
+            self.film.adaptive = Some(p.report.header());
+        }
         let held = SampleRange::new(part.samples.start, part.samples.start + self.spp_done);
         // A timed render asks for what it reaches; only a stopped one falls short.
         let requested = match self.partial {
@@ -189,10 +220,19 @@ impl<'a, E: Estimator> Run<'a, E> {
             _ => self.film.beauty_image(),
         };
         image.partial = self.partial;
+        let samples = match &self.piloted {
+            Some(p) => {
+                p.pilot_samples
+                    + self.film.counts.iter().map(|&n| n as u64).sum::<u64>()
+                    + self.film.nonfinite.iter().map(|&n| n as u64).sum::<u64>()
+            }
+            None => self.spp_done as u64 * part.crop.area() as u64,
+        };
         RenderOutput {
             image,
             nonfinite_samples: self.film.nonfinite.iter().map(|&n| n as u64).sum(),
-            samples: self.spp_done as u64 * part.crop.area() as u64,
+            samples,
+            noise: self.piloted.map(|p| p.report),
             film: self.film,
             elapsed: self.start.elapsed(),
             tracking: self.rays.tracking,
@@ -248,21 +288,27 @@ fn pass_size(options: &RenderOptions) -> u32 {
     }
 }
 
-/// The bar of a render of `rows` rows per pass, its passes of `pass_samples` (or [`pass_size`]).
-fn progress_bar(options: &RenderOptions, rows: u64, pass_samples: Option<u32>) -> ProgressBar {
+/// The bar of a render of `rows` rows per pass, its passes of `pass_samples`
+/// (or [`pass_size`]); a spinner when the length is unknown (timed or piloted).
+fn progress_bar(
+    options: &RenderOptions,
+    rows: u64,
+    pass_samples: Option<u32>,
+    piloted: bool,
+) -> ProgressBar {
     if !options.progress {
         return ProgressBar::hidden();
     }
-    let bar = match options.time_budget {
-        // The length of a timed render is unknown: show a spinner with rates.
-        Some(_) => ProgressBar::new_spinner(),
-        None => {
+    let spinner = options.time_budget.is_some() || piloted;
+    let bar = match spinner {
+        true => ProgressBar::new_spinner(),
+        false => {
             let pass = pass_samples.unwrap_or_else(|| pass_size(options));
             ProgressBar::new(rows * options.spp.div_ceil(pass) as u64)
         }
     };
     bar.set_draw_target(ProgressDrawTarget::stderr());
-    let template = if options.time_budget.is_some() {
+    let template = if spinner {
         "{spinner} {elapsed_precise} {msg}"
     } else {
         "{bar:40} {percent:>3}% {elapsed_precise} eta {eta} {msg}"

@@ -323,6 +323,13 @@ pub struct IntegratorDesc {
     /// mlt: Markov chains run side by side.
     #[serde(default)]
     pub chains: Option<u32>,
+    /// Spread the samples over the pixels by a pilot's error estimates
+    /// (default: on with a noise target, off without).
+    #[serde(default)]
+    pub adaptive: Option<bool>,
+    /// Stop once the estimated relative error of the image reaches this.
+    #[serde(default)]
+    pub noise: Option<f32>,
 }
 
 fn default_integrator_type() -> String {
@@ -360,6 +367,8 @@ impl Default for IntegratorDesc {
             small_step_size: None,
             bootstrap_samples: None,
             chains: None,
+            adaptive: None,
+            noise: None,
         }
     }
 }

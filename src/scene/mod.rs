@@ -1,6 +1,7 @@
 //! Scene files: parsing TOML into a `SceneDesc`, validating it with errors
 //! that name the file and field, and building the runtime `Scene`.
 
+mod adaptive_keys;
 pub mod animation;
 mod build_shapes;
 mod camera;
@@ -33,6 +34,7 @@ use crate::error::{Error, Result};
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
 use crate::sampling::SamplerKind;
+use adaptive_keys::build_adaptive;
 use camera::build_camera;
 use description::SceneDesc;
 use lights::{build_lights, light_pick};
@@ -539,6 +541,7 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
                 ))
             }
         },
+        adaptive: build_adaptive(integ, check)?,
     })
 }
 

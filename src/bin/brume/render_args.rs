@@ -37,6 +37,14 @@ pub(crate) struct RenderArgs {
     /// Render progressive passes until this many seconds are spent (--spp then caps it).
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = values::seconds)]
     pub(crate) time: Option<Duration>,
+    /// Stop once the estimated relative error of the image reaches TARGET (e.g. 0.02; README
+    /// "Adaptive sampling"); --spp then caps each pixel's samples, --time the whole render.
+    #[arg(long, value_name = "TARGET", allow_negative_numbers = true, value_parser = values::noise)]
+    pub(crate) noise: Option<f32>,
+    /// Spread the samples over the pixels by a pilot pass's error estimates: on or off
+    /// (default: the scene's integrator.adaptive, else on with a noise target and off without).
+    #[arg(long, value_name = "on|off", value_parser = values::on_off)]
+    pub(crate) adaptive: Option<bool>,
     /// Tone curve of the PNG preview: aces (filmic, rolls highlights off) or clip.
     #[arg(long, value_enum, default_value_t = Tonemap::Aces)]
     pub(crate) tonemap: Tonemap,
@@ -93,6 +101,7 @@ pub(crate) fn apply_overrides(
     if let Some(seed) = args.seed {
         scene.settings.seed = seed;
     }
+    apply_adaptive(scene, args)?;
     if let Some(aovs) = &args.aovs {
         scene.aovs = aovs.0.clone();
     }
@@ -105,6 +114,65 @@ pub(crate) fn apply_overrides(
                 scene.aovs.push(aov);
             }
         }
+    }
+    Ok(())
+}
+
+/// Applies --noise and --adaptive, refusing them where they cannot apply.
+fn apply_adaptive(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Result<()> {
+    use brume::integrator::IntegratorKind;
+    let a = &mut scene.settings.adaptive;
+    if let Some(noise) = args.noise {
+        a.noise = Some(noise);
+        a.adaptive = true;
+    }
+    if let Some(on) = args.adaptive {
+        a.adaptive = on;
+    }
+    let settings = scene.settings;
+    if !settings.adaptive.piloted() {
+        return Ok(());
+    }
+    // A flag is named by itself; the scene's keys were checked with the scene.
+    let flag = match (args.noise, args.adaptive) {
+        (Some(_), _) => "--noise",
+        (None, Some(_)) => "--adaptive",
+        (None, None) => "",
+    };
+    if !flag.is_empty() && !matches!(settings.integrator, IntegratorKind::Path) {
+        return Err(argument(
+            flag,
+            "adaptive sampling and noise targets take the path tracer's pixel samples: \
+             the scene's integrator.type must be \"path\"",
+        ));
+    }
+    if args.split.is_piece() {
+        let (name, what) = match flag {
+            "" => (
+                "--samples",
+                "the scene's integrator.noise or integrator.adaptive",
+            ),
+            f => (f, "adaptive sampling and noise targets"),
+        };
+        return Err(argument(
+            name,
+            &format!(
+                "a piece of a split render (--crop, --samples, --task-count) holds the same \
+                 samples in every pixel, which {what} would not; render in one piece, or set \
+                 --adaptive off without a noise target"
+            ),
+        ));
+    }
+    let min = brume::render::adaptive::MIN_SPP;
+    if settings.spp < min {
+        return Err(argument(
+            if flag.is_empty() { "--spp" } else { flag },
+            &format!(
+                "adaptive sampling and noise targets need at least {min} samples per pixel \
+                 (--spp or integrator.spp), got {}",
+                settings.spp
+            ),
+        ));
     }
     Ok(())
 }

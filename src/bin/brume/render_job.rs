@@ -280,7 +280,35 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         );
     }
     super::mlt_cli::report(out);
+    report_noise(out);
     warn_dropped_work(out);
+}
+
+/// A piloted render's counts and estimated error; a warning when the noise target was missed.
+fn report_noise(out: &brume::render::RenderOutput) {
+    let Some(r) = &out.noise else { return };
+    let target = r
+        .target
+        .map(|t| format!(" (target {t})"))
+        .unwrap_or_default();
+    eprintln!(
+        "{}: pilot {} spp (not in the image), image {}-{} spp per pixel (mean {:.1}), \
+         estimated relative error {:.4}{target}",
+        if r.adaptive { "adaptive" } else { "uniform" },
+        r.pilot_spp,
+        r.min_spp,
+        r.max_spp,
+        r.mean_spp,
+        r.error
+    );
+    if r.target_missed() && !out.image.partial {
+        eprintln!(
+            "warning: the noise target {} was not reached (estimated {:.4}): the spp cap or \
+             the time budget came first; raise --spp or --time",
+            r.target.unwrap_or_default(),
+            r.error
+        );
+    }
 }
 
 /// Warnings for samples, splats, rays and crossings the render left out.

@@ -45,7 +45,8 @@ pub fn write_film_exr(path: &Path, film: &Film) -> Result<()> {
 /// `brume:samples_held`, `brume:spp_total`, `brume:seed`, `brume:scene_hash`,
 /// `brume:layers` (the AOV names, comma-separated), `brume:count` and
 /// `brume:nonfinite` (the beauty's finite and left-out samples per pixel),
-/// `brume:count.NAME` (each AOV's), `brume:version`.
+/// `brume:count.NAME` (each AOV's), `brume:version`, and for a piloted
+/// render `brume:adaptive` (its pilot, counts and estimated error).
 pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChannel]) -> Result<()> {
     write_film(path, film, None, extra)
 }
@@ -187,6 +188,9 @@ fn insert_header(other: &mut HashMap<Text, AttributeValue>, film: &Film) {
             text(env!("CARGO_PKG_VERSION").to_string()),
         ),
     ];
+    if let Some(note) = &film.adaptive {
+        entries.push(("brume:adaptive".into(), text(note.clone())));
+    }
     for layer in &film.layers[1..] {
         if let Some(counts) = &layer.counts {
             entries.push((
@@ -226,6 +230,7 @@ pub fn read_film_exr(path: &Path) -> Result<Film> {
     )
     .map_err(&bad)?;
     let mut film = Film::new(display, window, provenance);
+    film.adaptive = header.text("brume:adaptive").ok();
     read_counts(&mut film, &header).map_err(&bad)?;
     let splat_part = image.layer_data.iter().find(|l| {
         l.attributes

@@ -1,0 +1,309 @@
+//! Adaptive sampling and the noise target (`--adaptive`, `--noise`).
+//!
+//! A piloted render first takes a pilot pass of a few samples in every pixel
+//! from an independent random stream (its own seed), and keeps it out of the
+//! image: the pilot only estimates each pixel's relative variance per
+//! sample. From those estimates alone it fixes, before any image sample is
+//! taken, how many samples each pixel gets at every level of the render
+//! ([`Plan::counts`]) and the estimated error of the image at those counts
+//! ([`Plan::error`]). The image's samples then come in passes of rising
+//! level, each pixel's samples being its first `N` of the ordinary stream.
+//!
+//! Why the image stays unbiased: a pixel's mean of `N` samples is unbiased
+//! when `N` does not depend on those samples' values. Here every count — the
+//! allocation, the level where the noise target is met, the spp cap — is a
+//! function of the pilot, whose stream is independent of the image's, so
+//! `E[mean | N] = μ` for every `N`. (Deciding pass k's counts from the image's
+//! own passes < k would not do: a pixel whose first samples came out bright
+//! would be given more samples and the early bright ones diluted, an optional
+//! stopping bias.) Only a time budget or a stop request ends a render at a
+//! level that depends on how long the samples took, as it does for uniform
+//! renders.
+
+use crate::film::PixelSums;
+pub use crate::integrator::adaptive_settings::{AdaptiveSettings, MAX_NOISE, MIN_SPP};
+
+/// The floor of the relative error's denominator, as a fraction of the
+/// pilot image's mean luminance: near-black pixels count by their absolute
+/// error against it instead of an unbounded relative one.
+pub const FLOOR_FRACTION: f64 = 0.1;
+
+/// Without a noise target, a pixel takes at most this many times the
+/// render's spp (the mean the render reaches).
+pub const MAX_FACTOR: u32 = 16;
+
+/// Samples per pixel of the pilot of a render of `spp` samples per pixel:
+/// 1/16 of them, 4 to 16.
+pub fn pilot_spp(spp: u32) -> u32 {
+    (spp / 16).clamp(4, 16)
+}
+
+/// The seed of the pilot's streams: independent of the image's.
+pub fn pilot_seed(seed: u64) -> u64 {
+    crate::sampling::mix64(seed ^ 0x5049_4C4F_5453_4545)
+}
+
+/// What the pilot says about each pixel, and the counts it implies.
+pub struct Plan {
+    /// Relative variance per sample of each pixel (luminance-normalised).
+    rel_var: Vec<f64>,
+    /// Allocation density, mean 1 (all 1 when not adaptive).
+    density: Vec<f64>,
+    /// Fewest image samples of any pixel.
+    pub min_count: u32,
+    /// Most image samples of any pixel (the spp cap).
+    pub cap: u32,
+}
+
+impl Plan {
+    /// The plan of a `w`×`h` crop from its pilot sums; `adaptive` false gives
+    /// every pixel the same count.
+    pub fn new(pilot: &[PixelSums], w: usize, adaptive: bool, min_count: u32, cap: u32) -> Plan {
+        let rel_var = relative_variances(pilot);
+        let density = match adaptive {
+            true => densities(&rel_var, w),
+            false => vec![1.0; rel_var.len()],
+        };
+        Plan {
+            rel_var,
+            density,
+            min_count: min_count.min(cap),
+            cap,
+        }
+    }
+
+    /// Image samples of pixel `i` at `level` (a level is about the mean spp).
+    #[inline]
+    pub fn count(&self, i: usize, level: f64) -> u32 {
+        let n = (level * self.density[i]).ceil();
+        (n.min(self.cap as f64) as u32).clamp(self.min_count, self.cap)
+    }
+
+    /// Image samples of every pixel at `level`.
+    pub fn counts(&self, level: f64) -> Vec<u32> {
+        (0..self.density.len())
+            .map(|i| self.count(i, level))
+            .collect()
+    }
+
+    /// The level at which every pixel reaches the cap.
+    pub fn top_level(&self) -> f64 {
+        let least = self
+            .density
+            .iter()
+            .copied()
+            .filter(|&d| d > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        match least.is_finite() {
+            true => self.cap as f64 / least + 1.0,
+            false => self.cap as f64,
+        }
+    }
+
+    /// Total image samples at `level`.
+    pub fn total(&self, level: f64) -> u64 {
+        (0..self.density.len())
+            .map(|i| self.count(i, level) as u64)
+            .sum()
+    }
+
+    /// The estimated relative error of the image whose pixels hold `counts`
+    /// samples: sqrt(mean over pixels of relative variance / count).
+    pub fn error(&self, counts: &[u32]) -> f64 {
+        let n = self.rel_var.len().max(1) as f64;
+        let sum: f64 = self
+            .rel_var
+            .iter()
+            .zip(counts)
+            .map(|(v, &c)| v / c.max(1) as f64)
+            .sum();
+        (sum / n).sqrt()
+    }
+
+    /// The highest level whose total is at most `budget` samples.
+    pub fn level_for_budget(&self, budget: u64) -> f64 {
+        self.search(|level| self.total(level) <= budget).0
+    }
+
+    /// The highest level in [lo, hi] whose total is at most `budget` samples (lo if none).
+    pub fn level_within(&self, lo: f64, hi: f64, budget: u64) -> f64 {
+        if self.total(hi) <= budget {
+            return hi;
+        }
+        let (mut lo, mut hi) = (lo, hi);
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            match self.total(mid) <= budget {
+                true => lo = mid,
+                false => hi = mid,
+            }
+        }
+        lo
+    }
+
+    /// The lowest level whose estimated error is at most `target` (the top
+    /// level when even the cap does not reach it).
+    pub fn level_for_noise(&self, target: f64) -> f64 {
+        self.search(|level| self.error(&self.counts(level)) > target)
+            .1
+    }
+
+    /// The levels (lo, hi) around where `ok` turns false in [0, top], `ok`
+    /// holding up to some level: `ok(lo)` (or lo = 0), `!ok(hi)` (or hi = top).
+    fn search(&self, ok: impl Fn(f64) -> bool) -> (f64, f64) {
+        let (mut lo, mut hi) = (0.0, self.top_level());
+        if ok(hi) {
+            return (hi, hi);
+        }
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            match ok(mid) {
+                true => lo = mid,
+                false => hi = mid,
+            }
+        }
+        (lo, hi)
+    }
+}
+
+/// Per pixel: (1/3)·Σ over channels of the sample variance, over
+/// max(luminance of the mean, floor)²; the floor is [`FLOOR_FRACTION`] of
+/// the mean luminance of all pixels.
+fn relative_variances(pilot: &[PixelSums]) -> Vec<f64> {
+    let lum: Vec<f64> = pilot
+        .iter()
+        .map(|p| p.mean().luminance().max(0.0) as f64)
+        .collect();
+    let mean = lum.iter().sum::<f64>() / lum.len().max(1) as f64;
+    let floor = (FLOOR_FRACTION * mean).max(1e-12);
+    pilot
+        .iter()
+        .zip(&lum)
+        .map(|(p, &y)| {
+            let v: f64 = (0..3).map(|c| sample_variance(p, c)).sum::<f64>() / 3.0;
+            v / y.max(floor).powi(2)
+        })
+        .collect()
+}
+
+/// The unbiased sample variance of channel `c` (0 below two samples).
+fn sample_variance(p: &PixelSums, c: usize) -> f64 {
+    crate::film::variance_of_mean(p.sum[c], p.squares[c], p.count)
+        .map_or(0.0, |v| v * p.count as f64)
+}
+
+/// Allocation densities: the square root of each pixel's relative variance
+/// averaged over its 3×3 neighbourhood (a pilot of a few samples misses
+/// rare paths; neighbours share them), scaled to mean 1. Minimising the sum
+/// of relative variances over counts of a fixed total gives counts ∝ sqrt.
+fn densities(rel_var: &[f64], w: usize) -> Vec<f64> {
+    let h = rel_var.len() / w.max(1);
+    let mut density = vec![0.0; rel_var.len()];
+    for y in 0..h {
+        for x in 0..w {
+            let (mut sum, mut n) = (0.0, 0.0);
+            for yy in y.saturating_sub(1)..(y + 2).min(h) {
+                for xx in x.saturating_sub(1)..(x + 2).min(w) {
+                    sum += rel_var[yy * w + xx];
+                    n += 1.0;
+                }
+            }
+            density[y * w + x] = (sum / n).sqrt();
+        }
+    }
+    let mean = density.iter().sum::<f64>() / density.len().max(1) as f64;
+    if mean > 0.0 && mean.is_finite() {
+        density.iter_mut().for_each(|d| *d /= mean);
+    } else {
+        density.iter_mut().for_each(|d| *d = 1.0);
+    }
+    density
+}
+
+/// How a piloted render went: for the summary and the EXR header.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NoiseReport {
+    /// Samples per pixel of the pilot (not in the image).
+    pub pilot_spp: u32,
+    /// Spread by the pilot's estimates (false: uniform counts).
+    pub adaptive: bool,
+    /// The noise target, if any.
+    pub target: Option<f32>,
+    /// The estimated relative error of the image at its final counts.
+    pub error: f64,
+    /// Fewest, mean and most image samples of a pixel.
+    pub min_spp: u32,
+    pub mean_spp: f64,
+    pub max_spp: u32,
+}
+
+impl NoiseReport {
+    /// True when a noise target was given and the estimate is above it.
+    pub fn target_missed(&self) -> bool {
+        self.target.is_some_and(|t| self.error > t as f64)
+    }
+
+    /// The `brume:adaptive` header text.
+    pub fn header(&self) -> String {
+        let target = match self.target {
+            Some(t) => format!("; noise target {t}"),
+            None => String::new(),
+        };
+        format!(
+            "{}; pilot {} spp from an independent stream, not in the image; image {}-{} spp \
+             per pixel (brume:count), mean {:.3}; estimated relative error {:.6}{target}",
+            if self.adaptive { "adaptive" } else { "uniform" },
+            self.pilot_spp,
+            self.min_spp,
+            self.max_spp,
+            self.mean_spp,
+            self.error
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::color::Rgb;
+
+    fn sums(values: &[f32]) -> PixelSums {
+        let mut p = PixelSums::default();
+        for &v in values {
+            p.add(Rgb::splat(v));
+        }
+        p
+    }
+
+    /// A noisy pixel among flat ones gets more samples; the total at the
+    /// budget level stays within the budget.
+    #[test]
+    fn the_noisy_pixel_gets_the_samples() {
+        let flat = sums(&[1.0, 1.0, 1.0, 1.0]);
+        let noisy = sums(&[0.0, 4.0, 0.0, 0.0]);
+        let mut pilot = vec![flat; 25];
+        pilot[12] = noisy;
+        let plan = Plan::new(&pilot, 5, true, 4, 1000);
+        let level = plan.level_for_budget(25 * 16);
+        let counts = plan.counts(level);
+        assert!(counts.iter().map(|&c| c as u64).sum::<u64>() <= 25 * 16);
+        assert!(counts[12] > 4 * counts[0], "{counts:?}");
+        // The corners are outside the noisy pixel's neighbourhood: the minimum.
+        assert_eq!(counts[0], 4);
+    }
+
+    /// Uniform plans give every pixel the same count; the error falls as 1/sqrt(n).
+    #[test]
+    fn a_uniform_plan_and_its_error() {
+        let pilot = vec![sums(&[0.0, 2.0, 0.0, 2.0]); 4];
+        let plan = Plan::new(&pilot, 2, false, 4, 1000);
+        let counts = plan.counts(64.0);
+        assert_eq!(counts, vec![64; 4]);
+        // Per-sample variance 4/3, mean 1: relative error sqrt(4/3/64).
+        let e = plan.error(&counts);
+        assert!((e - (4.0f64 / 3.0 / 64.0).sqrt()).abs() < 1e-12, "{e}");
+        let level = plan.level_for_noise(e);
+        assert!(plan.error(&plan.counts(level)) <= e);
+        assert!(plan.error(&plan.counts(level - 1.0)) > e, "{level}");
+    }
+}
