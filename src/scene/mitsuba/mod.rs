@@ -8,6 +8,7 @@ mod bsdf;
 mod emitter;
 mod mechanics;
 mod medium;
+mod numbers;
 mod sensor;
 mod shape;
 mod spectrum;

@@ -154,7 +154,7 @@ fn fov(p: &Props, camera: &mut CameraDesc) -> Result<()> {
         (None, focal) => {
             let text = focal.map(|(t, _)| t).unwrap_or("50mm");
             let at = p.node_of("focal_length").unwrap_or(p.owner);
-            let mm = super::values::number(at, text.trim().trim_end_matches("mm"))?;
+            let mm = super::numbers::number(at, text.trim().trim_end_matches("mm"))?;
             if mm <= 0.0 {
                 return Err(at.error("the focal length must be positive"));
             }

@@ -1,7 +1,7 @@
 //! `<spectrum>` in Mitsuba's RGB mode.
 
 use super::mechanics::Node;
-use super::values::number;
+use super::numbers::number;
 use crate::error::Result;
 
 /// The RGB of `<spectrum value>`: one number is a flat spectrum (grey);

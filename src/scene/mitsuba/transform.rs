@@ -3,7 +3,7 @@
 //! and the split of an affine matrix into brume's scale, rotate, translate.
 
 use super::mechanics::Node;
-use super::values::{number, numbers, triple};
+use super::numbers::{number, numbers, triple};
 use crate::error::Result;
 use crate::scene::description::{Color, TransformDesc};
 use glam::{DMat3, DMat4, DQuat, DVec3, EulerRot};

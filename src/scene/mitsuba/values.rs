@@ -3,6 +3,7 @@
 //! most once; whatever is left untaken is refused by [`Props::finish`].
 
 use super::mechanics::Node;
+use super::numbers::{number, numbers, triple};
 use crate::error::Result;
 use glam::{DMat4, DVec3};
 use std::cell::Cell;
@@ -258,22 +259,6 @@ impl<'a> Props<'a> {
     }
 }
 
-/// A finite number written in `node`.
-pub(crate) fn number(node: &Node, text: &str) -> Result<f64> {
-    match text.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(node.error(format!("`{text}` is not a finite number"))),
-    }
-}
-
-/// Numbers separated by commas and/or spaces.
-pub(crate) fn numbers(node: &Node, text: &str) -> Result<Vec<f64>> {
-    text.split(|c: char| c == ',' || c.is_whitespace())
-        .filter(|s| !s.is_empty())
-        .map(|s| number(node, s))
-        .collect()
-}
-
 /// `<rgb value>`: three numbers, or one for grey.
 fn rgb(node: &Node, text: &str) -> Result<[f64; 3]> {
     match numbers(node, text)?.as_slice() {
@@ -281,21 +266,4 @@ fn rgb(node: &Node, text: &str) -> Result<[f64; 3]> {
         [r, g, b] => Ok([*r, *g, *b]),
         _ => Err(node.error(format!("`{text}` is not one or three numbers"))),
     }
-}
-
-/// `x`, `y`, `z` attributes (each defaulting to `fill`) or `value="x, y, z"`.
-pub(crate) fn triple(node: &Node, fill: f64) -> Result<[f64; 3]> {
-    if let Some(text) = node.attr("value") {
-        return match numbers(node, text)?.as_slice() {
-            [x, y, z] => Ok([*x, *y, *z]),
-            _ => Err(node.error(format!("`{text}` is not three numbers"))),
-        };
-    }
-    let mut out = [fill; 3];
-    for (slot, key) in out.iter_mut().zip(["x", "y", "z"]) {
-        if let Some(text) = node.attr(key) {
-            *slot = number(node, text)?;
-        }
-    }
-    Ok(out)
 }
