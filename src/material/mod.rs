@@ -300,35 +300,45 @@ impl Material {
                 pdf: 1.0,
                 is_delta: true,
             }),
+            Material::Dielectric { .. } | Material::Conductor { .. } => {
+                self.sample_rough(sp, wo, u, u_lobe)
+            }
+        }
+    }
+
+    /// [`Material::sample`] of a rough dielectric or conductor: the GGX lobe,
+    /// with its energy compensation where `multiscatter` is on.
+    fn sample_rough(&self, sp: &Shading, wo: Vec3, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
+        let frame = Frame::from_z(sp.n);
+        let lo = frame.to_local(wo);
+        let s = match *self {
             Material::Dielectric {
                 ior,
                 alpha,
                 multiscatter,
             } => {
-                let frame = Frame::from_z(n);
-                let (ggx, eta, lo) = (Ggx { alpha }, relative_eta(ior, sp), frame.to_local(wo));
-                let s = if multiscatter {
+                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
+                if multiscatter {
                     multiscatter::dielectric_sample(ggx, eta, lo, u, u_lobe)
                 } else {
                     rough::dielectric_sample(ggx, eta, lo, u, u_lobe)
-                }?;
-                Some(to_world(&frame, s))
+                }
             }
             Material::Conductor {
                 alpha,
                 fresnel,
                 multiscatter,
             } => {
-                let frame = Frame::from_z(n);
-                let (ggx, lo) = (Ggx { alpha }, frame.to_local(wo));
-                let s = if multiscatter {
+                let ggx = Ggx { alpha };
+                if multiscatter {
                     multiscatter::conductor_sample(ggx, &fresnel, lo, u, u_lobe)
                 } else {
                     rough::conductor_sample(ggx, &fresnel, lo, u)
-                }?;
-                Some(to_world(&frame, s))
+                }
             }
-        }
+            _ => None,
+        }?;
+        Some(to_world(&frame, s))
     }
 }
 

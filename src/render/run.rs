@@ -129,24 +129,29 @@ impl<'a, E: Estimator> Run<'a, E> {
             };
             let (finished, rays) = group.render(&mut self.bufs);
             self.rays.merge(rays);
-            // A pass cut short is dropped whole, so every pixel of the image has
-            // exactly `spp_done` samples; a pass that finished is kept even if the
-            // stop request came in just after its last row.
-            for (k, &count) in counts.iter().enumerate().take(finished) {
-                self.add_pass(k, count);
-                if let Some(observe) = on_pass.as_mut() {
-                    let mut image = self.film.beauty_image();
-                    image.partial = true;
-                    observe(&image);
-                }
-            }
-            self.bar.set_message(format!("{} spp", self.spp_done));
+            self.keep_finished(&counts[..finished], &mut on_pass);
             if finished < counts.len() {
                 self.partial = true;
                 break;
             }
         }
         self.bar.finish_and_clear();
+    }
+
+    /// Adds the passes of a group that finished (`counts` of them), showing
+    /// each to the observer. A pass cut short is dropped whole, so every pixel
+    /// of the image has exactly `spp_done` samples; a pass that finished is
+    /// kept even if the stop request came in just after its last row.
+    fn keep_finished(&mut self, counts: &[u32], on_pass: &mut Option<PassObserver>) {
+        for (k, &count) in counts.iter().enumerate() {
+            self.add_pass(k, count);
+            if let Some(observe) = on_pass.as_mut() {
+                let mut image = self.film.beauty_image();
+                image.partial = true;
+                observe(&image);
+            }
+        }
+        self.bar.set_message(format!("{} spp", self.spp_done));
     }
 
     /// Runs the estimator's preparation of samples `first..first + count`;
