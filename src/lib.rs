@@ -18,6 +18,7 @@ pub mod math;
 pub mod medium;
 pub mod render;
 pub mod sampling;
+pub mod slab;
 pub mod scene;
 pub mod volume;
 
