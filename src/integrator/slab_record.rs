@@ -10,20 +10,22 @@ use crate::sampling::Sampler;
 /// Marks a slab bake's random streams apart from any render's pixel streams.
 const STREAM_TAG: u32 = 0x51AB_0000;
 
-/// One recorded line, estimated.
+/// Sums of samples of one recorded line.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RecordEstimate {
-    /// Mean radiance leaving the box along the line, from inside it.
+pub struct RecordSums {
+    /// Sum of the radiance leaving the box along the line, from inside it.
     pub radiance: Rgb,
-    /// Mean transmittance across the box along the line (0 through a surface).
+    /// Sum of the transmittance across the box along the line (0 through a surface).
     pub transmittance: Rgb,
-    /// Samples that were NaN or infinite, left out of the means.
+    /// Finite samples summed.
+    pub samples: u32,
+    /// Samples that were NaN or infinite, left out of the sums.
     pub nonfinite: u32,
 }
 
-/// Estimates the line through `point` along the unit `dir` (the way light
-/// leaves) across `bounds` with `spp` samples; sample `j` draws from the
-/// stream of `(seed, record, j)`, so a record depends on the seed only.
+/// Sums samples `samples` of the line through `point` along the unit `dir`
+/// (the way light leaves) across `bounds`; sample `j` draws from the stream
+/// of `(seed, record, j)`, so a record depends on the seed only.
 ///
 /// The eye ray starts where the line leaves the box and looks back along it;
 /// its first segment ends where the line enters the box, so what lies
@@ -34,11 +36,13 @@ pub fn estimate(
     scene: &Scene,
     bounds: &Bounds3,
     (point, dir): (Vec3, Vec3),
-    (spp, seed, record): (u32, u64, u64),
-) -> RecordEstimate {
-    let clear = RecordEstimate {
+    (samples, seed, record): (std::ops::Range<u32>, u64, u64),
+) -> RecordSums {
+    let count = samples.len() as u32;
+    let clear = RecordSums {
         radiance: Rgb::BLACK,
-        transmittance: Rgb::WHITE,
+        transmittance: Rgb::WHITE * count as f32,
+        samples: count,
         nonfinite: 0,
     };
     let far = 2.0 * (bounds.max - bounds.min).length() + (point - bounds.center()).length();
@@ -53,8 +57,9 @@ pub fn estimate(
     let length = t_entry - t_exit;
     let blocked = scene.geometry.occluded(&eye, length);
     let (mut radiance, mut transmittance, mut nonfinite) = (Rgb::BLACK, Rgb::BLACK, 0u32);
-    for j in 0..spp {
-        let mut sampler = Sampler::new(seed, record as u32, (record >> 32) as u32 ^ STREAM_TAG, j as u64);
+    for j in samples {
+        let y = (record >> 32) as u32 ^ STREAM_TAG;
+        let mut sampler = Sampler::new(seed, record as u32, y, j as u64);
         let l = li_from_inside(scene, eye, length, &mut sampler);
         let t = match blocked {
             true => Rgb::BLACK,
@@ -67,10 +72,10 @@ pub fn estimate(
             nonfinite += 1;
         }
     }
-    let n = (spp - nonfinite).max(1) as f32;
-    RecordEstimate {
-        radiance: radiance / n,
-        transmittance: transmittance / n,
+    RecordSums {
+        radiance,
+        transmittance,
+        samples: count - nonfinite,
         nonfinite,
     }
 }

@@ -16,6 +16,7 @@ mod group;
 pub mod merge_pieces;
 mod mlt;
 pub mod provenance;
+pub mod slab_bake;
 mod run;
 pub mod split;
 
