@@ -51,7 +51,11 @@ fn bake(dir: &Path, scene: &str, out: &str, extra: &[&str]) -> std::process::Out
 fn bake_depends_on_the_seed_only() {
     let dir = tempfile::tempdir().unwrap();
     let one = bake(dir.path(), BAKE, "one.slab", &["--threads", "1"]);
-    assert!(one.status.success(), "{}", String::from_utf8_lossy(&one.stderr));
+    assert!(
+        one.status.success(),
+        "{}",
+        String::from_utf8_lossy(&one.stderr)
+    );
     let stderr = String::from_utf8_lossy(&one.stderr);
     let records = 6 * 8 * 8 * 4 * 4;
     assert!(stderr.contains(&format!("= {records} lines")), "{stderr}");
@@ -61,8 +65,14 @@ fn bake_depends_on_the_seed_only() {
     assert!(other.status.success());
     let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
     assert_eq!(read("one.slab").len(), 64 + 12 * records);
-    assert!(read("one.slab") == read("two.slab"), "thread count changed the file");
-    assert!(read("one.slab") != read("other.slab"), "the seed changed nothing");
+    assert!(
+        read("one.slab") == read("two.slab"),
+        "thread count changed the file"
+    );
+    assert!(
+        read("one.slab") != read("other.slab"),
+        "the seed changed nothing"
+    );
 }
 
 /// Bad `[slab]` tables, a missing one and an output that is an input are
@@ -72,10 +82,26 @@ fn bad_bakes_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("keep.slab"), b"precious").unwrap();
     let cases: [(String, &[&str], &str); 4] = [
-        (BAKE.replace("[slab]", "[unused_table]"), &["unused_table"], "unknown table"),
-        (BAKE.replace("max = [1.1, 1.1, 1.1]", "max = [1.1, -2, 1.1]"), &["slab.max", "y"], "max below min"),
-        (BAKE.replace("spatial = 8", "spatial = 1"), &["slab.spatial", "2 to"], "one node"),
-        (BAKE.replace("angular = 4", "angular = 0.5"), &["slab.angular"], "a fraction"),
+        (
+            BAKE.replace("[slab]", "[unused_table]"),
+            &["unused_table"],
+            "unknown table",
+        ),
+        (
+            BAKE.replace("max = [1.1, 1.1, 1.1]", "max = [1.1, -2, 1.1]"),
+            &["slab.max", "y"],
+            "max below min",
+        ),
+        (
+            BAKE.replace("spatial = 8", "spatial = 1"),
+            &["slab.spatial", "2 to"],
+            "one node",
+        ),
+        (
+            BAKE.replace("angular = 4", "angular = 0.5"),
+            &["slab.angular"],
+            "a fraction",
+        ),
     ];
     for (text, culprits, what) in cases {
         let out = bake(dir.path(), &text, "keep.slab", &[]);
@@ -86,7 +112,10 @@ fn bad_bakes_are_refused() {
     assert_refused(&out, &["bake.toml", "slab", "missing"], "no [slab]");
     let out = bake(dir.path(), BAKE, "bake.toml", &[]);
     assert_refused(&out, &["--out", "is an input"], "over the scene");
-    assert_eq!(std::fs::read(dir.path().join("keep.slab")).unwrap(), b"precious");
+    assert_eq!(
+        std::fs::read(dir.path().join("keep.slab")).unwrap(),
+        b"precious"
+    );
 }
 
 /// A view of `slab` (a file beside it) from `position`.
@@ -106,14 +135,52 @@ fn bad_slab_shapes_are_refused() {
     let ok = bake(dir.path(), BAKE, "a.slab", &["--quiet"]);
     assert!(ok.status.success());
     let d = dir.path();
-    assert_scene_refused(d, "v.toml", &view("[0.2, 0, 0.5]", ""), &[] as &[&str], &["shape[0]", "inside"], "camera inside");
-    assert_scene_refused(d, "v.toml", &view("[0, 0, 5]", "material = { type = \"diffuse\", albedo = 0.5 }"), &[] as &[&str], &["shape[0].material"], "material");
-    assert_scene_refused(d, "v.toml", &view("[0, 0, 5]", "filter = \"cubic\""), &[] as &[&str], &["shape[0].filter", "nearest"], "filter");
+    assert_scene_refused(
+        d,
+        "v.toml",
+        &view("[0.2, 0, 0.5]", ""),
+        &[] as &[&str],
+        &["shape[0]", "inside"],
+        "camera inside",
+    );
+    assert_scene_refused(
+        d,
+        "v.toml",
+        &view(
+            "[0, 0, 5]",
+            "material = { type = \"diffuse\", albedo = 0.5 }",
+        ),
+        &[] as &[&str],
+        &["shape[0].material"],
+        "material",
+    );
+    assert_scene_refused(
+        d,
+        "v.toml",
+        &view("[0, 0, 5]", "filter = \"cubic\""),
+        &[] as &[&str],
+        &["shape[0].filter", "nearest"],
+        "filter",
+    );
     let bdpt = view("[0, 0, 5]", "").replace("spp = 4", "spp = 4\ntype = \"bdpt\"");
-    assert_scene_refused(d, "v.toml", &bdpt, &[] as &[&str], &["shape[0]", "path"], "bdpt");
+    assert_scene_refused(
+        d,
+        "v.toml",
+        &bdpt,
+        &[] as &[&str],
+        &["shape[0]", "path"],
+        "bdpt",
+    );
     let bytes = std::fs::read(d.join("a.slab")).unwrap();
     std::fs::write(d.join("a.slab"), &bytes[..1000]).unwrap();
-    assert_scene_refused(d, "v.toml", &view("[0, 0, 5]", ""), &[] as &[&str], &["shape[0].file", "truncated"], "truncated");
+    assert_scene_refused(
+        d,
+        "v.toml",
+        &view("[0, 0, 5]", ""),
+        &[] as &[&str],
+        &["shape[0].file", "truncated"],
+        "truncated",
+    );
 }
 
 /// Root mean square difference and mean of two renders.
@@ -121,8 +188,13 @@ fn compare(a: &Path, b: &Path) -> (f64, f64, f64) {
     let (_, _, pa) = brume::film::image_io::read_exr(a).unwrap();
     let (_, _, pb) = brume::film::image_io::read_exr(b).unwrap();
     let n = pa.len() as f64;
-    let sq: f64 = pa.iter().zip(&pb).map(|(x, y)| ((x.average() - y.average()) as f64).powi(2)).sum();
-    let mean = |p: &[brume::math::color::Rgb]| p.iter().map(|x| x.average() as f64).sum::<f64>() / n;
+    let sq: f64 = pa
+        .iter()
+        .zip(&pb)
+        .map(|(x, y)| ((x.average() - y.average()) as f64).powi(2))
+        .sum();
+    let mean =
+        |p: &[brume::math::color::Rgb]| p.iter().map(|x| x.average() as f64).sum::<f64>() / n;
     ((sq / n).sqrt(), mean(&pa), mean(&pb))
 }
 
@@ -133,17 +205,35 @@ fn compare(a: &Path, b: &Path) -> (f64, f64, f64) {
 fn viewed_slab_agrees_with_path_tracing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let baked = BAKE.replace("spatial = 8", "spatial = 24").replace("angular = 4", "angular = 8");
-    assert!(bake(d, &baked, "a.slab", &["--quiet", "--spp", "16"]).status.success());
+    let baked = BAKE
+        .replace("spatial = 8", "spatial = 24")
+        .replace("angular = 4", "angular = 8");
+    assert!(bake(d, &baked, "a.slab", &["--quiet", "--spp", "16"])
+        .status
+        .success());
     let eye = "[1.5, 1.0, 4.5]";
     let render = |name: &str, text: &str, spp: &str| {
         std::fs::write(d.join(format!("{name}.toml")), text).unwrap();
         let out = brume()
             .current_dir(d)
-            .args(["render", "--quiet", &format!("{name}.toml"), "--out", &format!("{name}.exr"), "--png", &format!("{name}.png"), "--spp", spp])
+            .args([
+                "render",
+                "--quiet",
+                &format!("{name}.toml"),
+                "--out",
+                &format!("{name}.exr"),
+                "--png",
+                &format!("{name}.png"),
+                "--spp",
+                spp,
+            ])
             .output()
             .unwrap();
-        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
     };
     let traced = BAKE
         .replace("position = [0, 0, 5]", &format!("position = {eye}"))
@@ -154,6 +244,12 @@ fn viewed_slab_agrees_with_path_tracing() {
     let (rmse_q, mean_q, mean_t) = compare(&d.join("quad.exr"), &d.join("traced.exr"));
     let (rmse_n, _, _) = compare(&d.join("nearest.exr"), &d.join("traced.exr"));
     eprintln!("rmse quadrilinear {rmse_q:.4}, nearest {rmse_n:.4}; mean slab {mean_q:.4}, traced {mean_t:.4}");
-    assert!((mean_q / mean_t - 1.0).abs() < 0.02, "means {mean_q} vs {mean_t}");
-    assert!(rmse_q < rmse_n, "quadrilinear {rmse_q} not closer than nearest {rmse_n}");
+    assert!(
+        (mean_q / mean_t - 1.0).abs() < 0.02,
+        "means {mean_q} vs {mean_t}"
+    );
+    assert!(
+        rmse_q < rmse_n,
+        "quadrilinear {rmse_q} not closer than nearest {rmse_n}"
+    );
 }

@@ -127,7 +127,10 @@ fn baked_sphere_matches_closed_form_at_recorded_lines() {
     // The grid spans every line meeting the box at slopes up to 1, most of
     // which miss the sphere: the check must still cover many that cross it
     // (626 of 7350 on this grid).
-    assert!(crossing >= 500, "only {crossing} of {records} lines cross the sphere");
+    assert!(
+        crossing >= 500,
+        "only {crossing} of {records} lines cross the sphere"
+    );
 }
 
 /// The sphere's transmittance recorded exactly on `grid` (no bake noise):
@@ -162,7 +165,9 @@ fn lookup_error(grid: Grid, filter: Filter) -> f64 {
         let q = sampler.next_2d();
         let target = Vec3::new(q.x - 0.5, q.y - 0.5, sampler.next_1d() - 0.5) * 0.5;
         let ray = Ray::new(target - d * 5.0, d);
-        let c = shape.crossing(&ray, f32::INFINITY).expect("the ray enters the box");
+        let c = shape
+            .crossing(&ray, f32::INFINITY)
+            .expect("the ray enters the box");
         // The recorded line runs the other way: light leaving toward the ray's origin.
         let exact = (-SIGMA_A * chord(target, -d)).exp();
         total += (c.transmittance.g as f64 - exact).abs();
@@ -176,7 +181,10 @@ fn lookup_error(grid: Grid, filter: Filter) -> f64 {
 #[test]
 fn lookup_error_shrinks_at_the_filters_order() {
     let grids = [(11, 6), (21, 11), (41, 21)].map(|(spatial, angular)| Grid { spatial, angular });
-    for (filter, lo, hi) in [(Filter::Quadrilinear, 1.7, 2.4), (Filter::Nearest, 0.7, 1.3)] {
+    for (filter, lo, hi) in [
+        (Filter::Quadrilinear, 1.7, 2.4),
+        (Filter::Nearest, 0.7, 1.3),
+    ] {
         let errors = grids.map(|g| lookup_error(g, filter));
         eprintln!("{filter:?}: mean |error| {errors:?}");
         for w in errors.windows(2) {

@@ -16,8 +16,8 @@ mod group;
 pub mod merge_pieces;
 mod mlt;
 pub mod provenance;
-pub mod slab_bake;
 mod run;
+pub mod slab_bake;
 pub mod split;
 
 pub use crate::integrator::estimator::{pixel_sample, Estimator, PathTracer};

@@ -48,7 +48,11 @@ pub fn bake(
     let param = Param::new(header.bounds, header.grid);
     let n = header.grid.records() as usize;
     let mut sums = vec![(Rgb::BLACK, Rgb::BLACK, 0u32, 0u32); n];
-    let pass = if options.time_budget.is_some() { 1 } else { options.spp };
+    let pass = if options.time_budget.is_some() {
+        1
+    } else {
+        options.spp
+    };
     let bar = progress_bar(options, n as u64);
     let pool = super::thread_pool(options);
     let mut spp = 0u32;
@@ -60,16 +64,18 @@ pub fn bake(
         let finished = AtomicBool::new(true);
         let context = (scene, &param, header.seed);
         // A stopped pass leaves the sums unfinished, but a stopped bake keeps nothing.
-        sums.par_chunks_mut(CHUNK).enumerate().for_each(|(c, chunk)| {
-            if cancel.load(Ordering::Relaxed) {
-                finished.store(false, Ordering::Relaxed);
-                return;
-            }
-            add_samples(context, c * CHUNK, chunk, samples.clone());
-            if options.time_budget.is_none() {
-                bar.inc(chunk.len() as u64);
-            }
-        });
+        sums.par_chunks_mut(CHUNK)
+            .enumerate()
+            .for_each(|(c, chunk)| {
+                if cancel.load(Ordering::Relaxed) {
+                    finished.store(false, Ordering::Relaxed);
+                    return;
+                }
+                add_samples(context, c * CHUNK, chunk, samples.clone());
+                if options.time_budget.is_none() {
+                    bar.inc(chunk.len() as u64);
+                }
+            });
         if !finished.load(Ordering::Relaxed) || cancel.load(Ordering::Relaxed) {
             return true;
         }
@@ -109,7 +115,10 @@ fn progress_bar(options: &RenderOptions, records: u64) -> ProgressBar {
         return ProgressBar::hidden();
     }
     let (bar, template) = match options.time_budget {
-        Some(_) => (ProgressBar::new_spinner(), "{spinner} {elapsed_precise} {msg}"),
+        Some(_) => (
+            ProgressBar::new_spinner(),
+            "{spinner} {elapsed_precise} {msg}",
+        ),
         None => (
             ProgressBar::new(records),
             "{bar:40} {percent:>3}% of the lines {elapsed_precise} eta {eta}",

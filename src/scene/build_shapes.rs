@@ -47,7 +47,12 @@ pub(super) fn build_shapes(
     for (i, shape) in desc.shapes.iter().enumerate() {
         let field = format!("shape[{i}]");
         if shape.kind == description::ShapeType::Slab {
-            slabs.push(super::slab_keys::build_slab_shape(shape, (i as u32, &field), check, base)?);
+            slabs.push(super::slab_keys::build_slab_shape(
+                shape,
+                (i as u32, &field),
+                check,
+                base,
+            )?);
             // Indexed like the shapes; a slab has no surface to use them.
             let (material, texture) = build_material(None, &field, check, base, &mut images)?;
             shape_materials.push(material);

@@ -112,7 +112,10 @@ pub(super) fn build_slab_shape(
     let path = resolve(base, file);
     let key = format!("{field}.file");
     if let Some(problem) = crate::error::input_file_problem(&path, u64::MAX) {
-        return Err(check.error(&key, format!("cannot read slab file {}: {problem}", path.display())));
+        return Err(check.error(
+            &key,
+            format!("cannot read slab file {}: {problem}", path.display()),
+        ));
     }
     let slab = LightSlab::read(&path)
         .map_err(|problem| check.error(&key, format!("{} {problem}", path.display())))?;

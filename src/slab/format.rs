@@ -69,7 +69,10 @@ impl SlabHeader {
             ));
         }
         if u32_at(12) as usize != HEADER_BYTES {
-            return Err(format!("has a header of {} bytes, not {HEADER_BYTES}", u32_at(12)));
+            return Err(format!(
+                "has a header of {} bytes, not {HEADER_BYTES}",
+                u32_at(12)
+            ));
         }
         let grid = Grid {
             spatial: u32_at(16),
@@ -271,7 +274,10 @@ mod tests {
         let mut huge = bytes.clone();
         huge[16..20].copy_from_slice(&100_000u32.to_le_bytes());
         assert!(refuse(&huge).contains("damaged"));
-        assert!(refuse(b"not a slab file at all, but long enough to hold a header......").contains("BRUMESLB"));
+        assert!(
+            refuse(b"not a slab file at all, but long enough to hold a header......")
+                .contains("BRUMESLB")
+        );
     }
 
     /// Radiance beyond the half-float range is clamped and counted, never infinite.
