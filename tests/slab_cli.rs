@@ -253,3 +253,38 @@ fn viewed_slab_agrees_with_path_tracing() {
         "quadrilinear {rmse_q} not closer than nearest {rmse_n}"
     );
 }
+
+/// A stop request (SIGINT) ends a bake within seconds, with exit code 130,
+/// and leaves the existing file as it was: a slab of fewer samples is never written.
+#[test]
+fn a_stopped_bake_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bake.toml"), BAKE).unwrap();
+    std::fs::write(dir.path().join("keep.slab"), b"precious").unwrap();
+    let child = brume()
+        .current_dir(dir.path())
+        .args([
+            "slab",
+            "bake",
+            "bake.toml",
+            "--out",
+            "keep.slab",
+            "--spp",
+            "100000000",
+        ])
+        .spawn()
+        .unwrap();
+    let out = common::cli::signal_and_wait(
+        child,
+        "INT",
+        std::time::Duration::from_millis(800),
+        std::time::Duration::from_secs(5),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("nothing written"), "{stderr}");
+    assert_eq!(
+        std::fs::read(dir.path().join("keep.slab")).unwrap(),
+        b"precious"
+    );
+}

@@ -13,6 +13,9 @@ use std::time::{Duration, Instant};
 
 /// Records estimated between two looks at the stop flag and the progress bar.
 const CHUNK: usize = 256;
+/// Most samples per line in one pass: a chunk of a pass stays short enough
+/// for a stop request to be seen within a second, however large `--spp` is.
+const PASS_SAMPLES: u32 = 8;
 
 /// What a bake produced.
 pub struct BakeOutput {
@@ -35,8 +38,8 @@ pub fn bake_peak_bytes(records: u64) -> u128 {
 }
 
 /// Bakes the box and grid of `header` (its `spp` is replaced by the samples
-/// reached) from `scene`: passes of `options.spp` samples per line, or of one
-/// sample under a time budget. A stop request drops the pass under way and
+/// reached) from `scene`: passes of up to 8 samples per line until
+/// `options.spp`, or of one sample under a time budget. A stop request drops the pass under way and
 /// the bake returns no slab: a slab of fewer samples is never written.
 pub fn bake(
     scene: &Scene,
@@ -48,19 +51,21 @@ pub fn bake(
     let param = Param::new(header.bounds, header.grid);
     let n = header.grid.records() as usize;
     let mut sums = vec![(Rgb::BLACK, Rgb::BLACK, 0u32, 0u32); n];
-    let pass = if options.time_budget.is_some() {
-        1
-    } else {
-        options.spp
+    let pass = match options.time_budget {
+        Some(_) => 1,
+        None => options.spp.min(PASS_SAMPLES),
     };
-    let bar = progress_bar(options, n as u64);
+    let bar = progress_bar(options, n as u64 * options.spp.div_ceil(pass) as u64);
     let pool = super::thread_pool(options);
     let mut spp = 0u32;
     let stopped = pool.install(|| loop {
         if budget_spent(options, spp, start) {
             return false;
         }
-        let samples = spp..spp.saturating_add(pass);
+        let samples = spp..spp.saturating_add(pass).min(match options.time_budget {
+            Some(_) => u32::MAX,
+            None => options.spp,
+        });
         let finished = AtomicBool::new(true);
         let context = (scene, &param, header.seed);
         // A stopped pass leaves the sums unfinished, but a stopped bake keeps nothing.
@@ -109,8 +114,8 @@ pub fn bake(
     }
 }
 
-/// The bar of a bake: records done of the one pass, or a spinner under a time budget.
-fn progress_bar(options: &RenderOptions, records: u64) -> ProgressBar {
+/// The bar of a bake: `steps` record-passes, or a spinner under a time budget.
+fn progress_bar(options: &RenderOptions, steps: u64) -> ProgressBar {
     if !options.progress {
         return ProgressBar::hidden();
     }
@@ -120,7 +125,7 @@ fn progress_bar(options: &RenderOptions, records: u64) -> ProgressBar {
             "{spinner} {elapsed_precise} {msg}",
         ),
         None => (
-            ProgressBar::new(records),
+            ProgressBar::new(steps),
             "{bar:40} {percent:>3}% of the lines {elapsed_precise} eta {eta}",
         ),
     };

@@ -274,10 +274,10 @@ mod tests {
         let mut huge = bytes.clone();
         huge[16..20].copy_from_slice(&100_000u32.to_le_bytes());
         assert!(refuse(&huge).contains("damaged"));
-        assert!(
-            refuse(b"not a slab file at all, but long enough to hold a header......")
-                .contains("BRUMESLB")
-        );
+        assert!(refuse(
+            b"not a slab file at all, but long enough to hold a header of sixty-four bytes"
+        )
+        .contains("BRUMESLB"));
     }
 
     /// Radiance beyond the half-float range is clamped and counted, never infinite.
