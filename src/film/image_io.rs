@@ -108,6 +108,21 @@ pub fn write_text(path: &Path, text: &str) -> Result<()> {
     })
 }
 
+/// Writes a file through `write` atomically (through a temporary file,
+/// like the images): a failed or interrupted write leaves `path` as it was.
+pub fn write_file_with(
+    path: &Path,
+    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+) -> Result<()> {
+    write_atomically(path, |tmp| {
+        let file = std::fs::File::create(tmp).map_err(|e| e.to_string())?;
+        let mut out = std::io::BufWriter::new(file);
+        write(&mut out).map_err(|e| e.to_string())?;
+        let file = out.into_inner().map_err(|e| e.to_string())?;
+        file.sync_all().map_err(|e| e.to_string())
+    })
+}
+
 /// Writes a linear RGB float EXR, recording spp and completeness in the header.
 pub fn write_exr(path: &Path, image: &Image) -> Result<()> {
     use exr::meta::attribute::{AttributeValue, Text};

@@ -9,6 +9,8 @@ pub use moving::MovingShape;
 pub use shapes::{sphere_uv, AreaSample, Primitive, PrimitiveHit, QuadTest};
 
 use crate::math::{Bounds3, Ray, Vec2, Vec3};
+use crate::slab::lookup::SlabCrossing;
+use crate::slab::SlabShape;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{builder::build_bvh2, node::Bvh2Node, Bvh2};
 use obvhs::faststack::{HeapStack, StackStack};
@@ -67,6 +69,8 @@ pub struct Geometry {
     bounds: Bounds3,
     /// Shapes moved by keyframes (none in a still scene).
     moving: Option<moving::MovingShapes>,
+    /// Baked light slabs (`type = "slab"`): boxes answered from a record, not traced.
+    slabs: Vec<SlabShape>,
 }
 
 /// Corner texture coordinates of a triangle without any: its barycentric parameters.
@@ -144,7 +148,36 @@ impl Geometry {
             bvh,
             bounds,
             moving: None,
+            slabs: Vec::new(),
         }
+    }
+
+    /// The same geometry with baked light slabs beside the primitives.
+    pub fn with_slabs(mut self, slabs: Vec<SlabShape>) -> Geometry {
+        for s in &slabs {
+            self.bounds = self.bounds.union(&s.bounds());
+        }
+        self.slabs = slabs;
+        self
+    }
+
+    /// The baked light slabs.
+    pub fn slabs(&self) -> &[SlabShape] {
+        &self.slabs
+    }
+
+    /// The first slab box `ray` enters from outside before `t_max`, with the
+    /// recorded light of its line (`None` in a scene without slabs).
+    #[inline]
+    pub fn slab_crossing(&self, ray: &Ray, t_max: f32) -> Option<SlabCrossing> {
+        let mut best: Option<SlabCrossing> = None;
+        for s in &self.slabs {
+            let bound = best.map_or(t_max, |b| b.t_enter);
+            if let Some(c) = s.crossing(ray, bound) {
+                best = Some(c);
+            }
+        }
+        best
     }
 
     /// The same geometry with `shapes` moved by keyframes beside the still primitives.

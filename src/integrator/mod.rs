@@ -13,6 +13,7 @@ mod direct;
 mod equiangular;
 pub mod estimator;
 pub mod mlt;
+pub mod slab_record;
 pub mod sppm;
 pub mod tracking;
 
@@ -201,6 +202,9 @@ struct PathState {
     /// it only gathers the emission it meets (surfaces, media, lights at
     /// infinity), MIS-weighted against that vertex's light sampling, then stops.
     emission_only: bool,
+    /// The far end of the first segment when it is bounded (a slab bake's
+    /// line leaving a box): past it the ray gathers nothing.
+    first_segment_end: Option<f32>,
 }
 
 /// Whether a path goes on after a step.
@@ -217,7 +221,15 @@ enum Step {
 /// exactly direct lighting, including light that NEE cannot sample (delta
 /// BSDFs, emissive media).
 pub fn li(scene: &Scene, ray: Ray, sampler: &mut Sampler) -> Rgb {
-    li_gathering(scene, ray, sampler, &mut NoGather)
+    li_gathering(scene, ray, sampler, &mut NoGather, None)
+}
+
+/// [`li`] for the light leaving a box along `-ray.direction`, from inside
+/// it only: the first segment ends at `t_end` (where `ray` leaves the box),
+/// so what lies behind the box along the line adds nothing. Scattered paths
+/// are traced as usual, through and beyond the box.
+pub fn li_from_inside(scene: &Scene, ray: Ray, t_end: f32, sampler: &mut Sampler) -> Rgb {
+    li_gathering(scene, ray, sampler, &mut NoGather, Some(t_end))
 }
 
 /// What a photon-mapping eye path asks of [`li`]: told of every segment and
@@ -264,6 +276,7 @@ pub(crate) fn li_gathering<G: Gather>(
     ray: Ray,
     sampler: &mut Sampler,
     gather: &mut G,
+    first_segment_end: Option<f32>,
 ) -> Rgb {
     let mut path = PathState {
         ray,
@@ -276,6 +289,7 @@ pub(crate) fn li_gathering<G: Gather>(
         depth: 0,
         scatter_depth: 0,
         emission_only: scene.settings.max_depth == 0 || scene.settings.max_scatter_depth == 0,
+        first_segment_end,
     };
     while let Step::Continue = trace_segment(scene, &mut path, sampler, gather) {}
     path.radiance
@@ -288,9 +302,13 @@ fn trace_segment<G: Gather>(
     sampler: &mut Sampler,
     gather: &mut G,
 ) -> Step {
-    let hit = scene.geometry.intersect(&path.ray, f32::INFINITY);
+    let t_end = path.first_segment_end.take().unwrap_or(f32::INFINITY);
+    let hit = scene.geometry.intersect(&path.ray, t_end);
+    let t_surface = hit.map_or(t_end, |h| h.t);
+    if let Some(crossing) = scene.geometry.slab_crossing(&path.ray, t_surface) {
+        return slab_segment(scene, path, &crossing, sampler);
+    }
     if !scene.media.is_empty() {
-        let t_surface = hit.map_or(f32::INFINITY, |h| h.t);
         if G::ACTIVE && !path.emission_only {
             gather.segment(
                 scene,
@@ -306,6 +324,10 @@ fn trace_segment<G: Gather>(
         }
     }
     let Some(hit) = hit else {
+        if t_end.is_finite() {
+            // A bounded first segment: what lies beyond its end is not asked for.
+            return Step::Stop;
+        }
         let escaped = scene.escaped(
             path.ray.direction,
             path.prev_pdf,
@@ -320,6 +342,33 @@ fn trace_segment<G: Gather>(
         return Step::Stop;
     }
     surface_vertex(scene, path, &hit, sampler, gather)
+}
+
+/// A ray entering a baked slab: the media up to the box, then the slab's
+/// recorded light over the transmittance-weighted rest, which the ray goes
+/// on to meet from the far side of the box. The box hides what the scene
+/// has inside it; the path's MIS state stays that of the ray's origin (the
+/// line is the same).
+fn slab_segment(
+    scene: &Scene,
+    path: &mut PathState,
+    crossing: &crate::slab::lookup::SlabCrossing,
+    sampler: &mut Sampler,
+) -> Step {
+    if !scene.media.is_empty() {
+        if let Some(step) = medium_segment(scene, path, crossing.t_enter, sampler, false) {
+            return step;
+        }
+    }
+    path.radiance += path.throughput * crossing.radiance;
+    path.throughput *= crossing.transmittance;
+    if path.throughput.is_black() {
+        return Step::Stop;
+    }
+    path.ray = path
+        .ray
+        .spawn(path.ray.at(crossing.t_exit), path.ray.direction);
+    Step::Continue
 }
 
 /// Free flight through the media up to `t_surface`, with equiangular sampling

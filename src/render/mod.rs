@@ -19,6 +19,7 @@ mod mlt;
 mod piloted;
 pub mod provenance;
 mod run;
+pub mod slab_bake;
 pub mod split;
 
 pub use crate::integrator::estimator::{pixel_sample, Estimator, PathTracer};

@@ -43,8 +43,23 @@ pub(super) fn build_shapes(
     let mut emissions = Vec::with_capacity(desc.shapes.len());
     let mut images = textures::ImageCache::default();
     let mut interiors = Vec::new();
+    let mut slabs = Vec::new();
     for (i, shape) in desc.shapes.iter().enumerate() {
         let field = format!("shape[{i}]");
+        if shape.kind == description::ShapeType::Slab {
+            slabs.push(super::slab_keys::build_slab_shape(
+                shape,
+                (i as u32, &field),
+                check,
+                base,
+            )?);
+            // Indexed like the shapes; a slab has no surface to use them.
+            let (material, texture) = build_material(None, &field, check, base, &mut images)?;
+            shape_materials.push(material);
+            shape_textures.push(texture);
+            emissions.push(None);
+            continue;
+        }
         let mut built = shapes::build_shape(shape, &field, check, base)?;
         require_uv(shape, &field, built.texcoords.is_some(), check, base)?;
         let keys = check_moving_shape(shape, built.keys.take(), &field, check)?;
@@ -74,7 +89,9 @@ pub(super) fn build_shapes(
         texcoords = Vec::new();
     }
     Ok(Shapes {
-        geometry: Geometry::with_texcoords(items, texcoords).with_moving(moving),
+        geometry: Geometry::with_texcoords(items, texcoords)
+            .with_moving(moving)
+            .with_slabs(slabs),
         materials: shape_materials,
         textures: shape_textures,
         emissions,

@@ -207,6 +207,33 @@ pub struct SceneDesc {
     /// `[film]`.
     #[serde(default)]
     pub film: FilmDesc,
+    /// `[slab]`: the box `brume slab bake` records (see `scene::slab_keys`).
+    #[serde(default)]
+    pub slab: Option<SlabDesc>,
+}
+
+/// `[slab]`: the box around the content to bake and the grid of lines recorded.
+///
+/// ```toml
+/// [slab]
+/// min = [-1, 0, -1]
+/// max = [1, 2, 1]
+/// spatial = 64   # nodes per position axis
+/// angular = 16   # nodes per slope axis
+/// ```
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlabDesc {
+    /// Minimum corner of the box.
+    pub min: [f32; 3],
+    /// Maximum corner of the box.
+    pub max: [f32; 3],
+    /// Nodes per position axis on each slab's mid-plane.
+    #[serde(default)]
+    pub spatial: Option<u32>,
+    /// Nodes per slope axis of each slab.
+    #[serde(default)]
+    pub angular: Option<u32>,
 }
 
 fn default_media_key() -> &'static str {
@@ -569,7 +596,7 @@ fn default_reflectance() -> ColorOrTexture {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShapeDesc {
-    /// `sphere`, `quad`, `box` or `mesh`.
+    /// `sphere`, `quad`, `box`, `mesh` or `slab`.
     #[serde(rename = "type")]
     pub kind: ShapeType,
     /// Centre (sphere, quad, box).
@@ -605,6 +632,9 @@ pub struct ShapeDesc {
     /// A medium filling the (closed) shape: homogeneous or vdb, see `scene::interior`.
     #[serde(default)]
     pub interior: Option<MediumDesc>,
+    /// How a slab answers lines between its records: `quadrilinear` (default) or `nearest` (slab).
+    #[serde(default)]
+    pub filter: Option<String>,
 }
 
 impl ShapeDesc {
@@ -647,17 +677,20 @@ pub enum ShapeType {
     Box,
     /// A triangle mesh from a Wavefront OBJ `file`.
     Mesh,
+    /// A baked light slab from a `.slab` `file` (`brume slab bake`).
+    Slab,
 }
 
 impl<'de> Deserialize<'de> for ShapeType {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<ShapeType, D::Error> {
-        const KINDS: [ShapeType; 4] = [
+        const KINDS: [ShapeType; 5] = [
             ShapeType::Sphere,
             ShapeType::Quad,
             ShapeType::Box,
             ShapeType::Mesh,
+            ShapeType::Slab,
         ];
-        let i = super::messages::one_of(d, &["sphere", "quad", "box", "mesh"])?;
+        let i = super::messages::one_of(d, &["sphere", "quad", "box", "mesh", "slab"])?;
         Ok(KINDS[i])
     }
 }

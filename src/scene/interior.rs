@@ -213,6 +213,10 @@ fn build_mask(
                     )
                 })
         }
+        ShapeType::Slab => Err(check.error(
+            &format!("{field}.interior"),
+            "a slab's box holds baked light, not a medium; bake the medium into it instead",
+        )),
         ShapeType::Quad => Err(check.error(
             &format!("{field}.interior"),
             "a quad encloses no volume; an interior needs a sphere, box or closed mesh",

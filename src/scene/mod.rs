@@ -22,10 +22,12 @@ mod mlt_keys;
 mod overflow;
 mod overrides;
 mod shapes;
+mod slab_keys;
 mod sppm_keys;
 mod textures;
 mod validate;
 pub use overrides::Override;
+pub use slab_keys::{SlabSpec, DEFAULT_ANGULAR, DEFAULT_SPATIAL};
 pub mod vdb;
 mod vdb_emission;
 mod vdb_grids;
@@ -55,6 +57,8 @@ pub struct Loaded {
     pub inputs: Vec<PathBuf>,
     /// Warnings, each `FILE: FIELD: message`: valid values that probably are not what was meant.
     pub warnings: Vec<String>,
+    /// The box and grid of `[slab]`, for `brume slab bake`.
+    pub slab: Option<SlabSpec>,
 }
 
 /// [`load`], with the scene's input files and warnings.
@@ -86,6 +90,7 @@ fn load_overridden(path: &Path, frame: Option<i64>, overrides: &[Override]) -> R
     let text = read_scene_text(path)?;
     let desc = parse_with_overrides(&text, path, overrides)?;
     let (scene, warnings) = build_frame(&desc, path, &base, frame)?;
+    let slab = slab_keys::build_slab_table(&desc, &Check::new(path))?;
     let inputs = inputs::files_read(&desc, path, frame)
         .into_iter()
         .map(|f| f.path)
@@ -94,6 +99,7 @@ fn load_overridden(path: &Path, frame: Option<i64>, overrides: &[Override]) -> R
         scene,
         inputs,
         warnings,
+        slab,
     })
 }
 
@@ -454,8 +460,12 @@ pub fn build_frame(
         return Err(check.error("scene", "the scene is empty: no shape, light or medium"));
     }
     let timing = build_timing(desc, &check, frame)?;
+    // Checked for every command, used by `brume slab bake` (see `Loaded::slab`).
+    slab_keys::build_slab_table(desc, &check)?;
     let mut settings = build_settings(desc, &check, timing.shutter)?;
     let shapes = build_shapes::build_shapes(desc, &check, base, &timing)?;
+    let eye = crate::math::Vec3::from_array(desc.camera.position);
+    slab_keys::check_slab_use(desc, shapes.geometry.slabs(), eye, &check)?;
     let (lights, shape_lights) =
         build_lights(desc, &check, base, &shapes.geometry, shapes.emissions)?;
     let media = build_media(desc, &check, base, &timing, shapes.interiors)?;

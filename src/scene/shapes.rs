@@ -26,6 +26,7 @@ fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<
         ShapeType::Quad => &["center", "normal", "size", "u_axis"],
         ShapeType::Box => &["center", "size"],
         ShapeType::Mesh => &["file"],
+        ShapeType::Slab => &["file", "filter"],
     };
     let present = [
         ("center", shape.center.is_some()),
@@ -34,6 +35,7 @@ fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<
         ("size", shape.size.is_some()),
         ("u_axis", shape.u_axis.is_some()),
         ("file", shape.file.is_some()),
+        ("filter", shape.filter.is_some()),
     ];
     for (key, set) in present {
         if set && !used.contains(&key) {
@@ -77,6 +79,8 @@ pub(crate) fn build_shape(
         ShapeType::Sphere => vec![sphere(shape, &m, center, field, check)?],
         ShapeType::Quad => vec![quad(shape, &m, center, field, check)?],
         ShapeType::Box => box_faces(shape, &m, center, field, check)?,
+        // A slab has no primitives: it is a box answered from its file (`slab_keys`).
+        ShapeType::Slab => Vec::new(),
         ShapeType::Mesh => {
             let file = shape
                 .file

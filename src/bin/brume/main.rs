@@ -15,6 +15,7 @@ mod mlt_cli;
 mod render;
 mod render_args;
 mod render_job;
+mod slab;
 
 use airlight::AirlightArgs;
 use compare::CompareArgs;
@@ -46,6 +47,8 @@ enum Command {
     Merge(MergeArgs),
     /// Compare A.exr with the reference B.exr: RMSE, relative MSE, means, max difference.
     Compare(CompareArgs),
+    /// Light slabs: `brume slab bake SCENE.toml --out FILE.slab` records the light leaving a box.
+    Slab(slab::SlabArgs),
 }
 
 fn main() {
@@ -65,6 +68,7 @@ fn main() {
         Command::Airlight(args) => airlight::run_airlight(args),
         Command::Merge(args) => merge::run_merge(args),
         Command::Compare(args) => compare::run_compare(args),
+        Command::Slab(args) => slab::run_slab(args),
     });
     match result {
         Ok(code) => std::process::exit(code),

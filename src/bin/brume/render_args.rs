@@ -115,6 +115,13 @@ pub(crate) fn apply_overrides(
             }
         }
     }
+    if !scene.aovs.is_empty() && !scene.geometry.slabs().is_empty() {
+        let flag = if args.denoise { "--denoise" } else { "--aovs" };
+        return Err(argument(
+            flag,
+            "the AOVs do not see slab shapes yet; render a scene with slabs without AOVs",
+        ));
+    }
     Ok(())
 }
 

@@ -181,7 +181,7 @@ impl Estimator for Sppm {
             beam: arena,
             radiance: Rgb::BLACK,
         };
-        let direct = li_gathering(scene, ray, &mut sampler, &mut gatherer);
+        let direct = li_gathering(scene, ray, &mut sampler, &mut gatherer, None);
         direct + gatherer.radiance
     }
 }
