@@ -19,7 +19,6 @@ pub mod medium;
 pub mod render;
 pub mod sampling;
 pub mod scene;
-pub mod slab;
 pub mod volume;
 
 /// The test suite's one k (tests/common/k_sigma.rs), shared with the unit tests.

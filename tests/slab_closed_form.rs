@@ -4,11 +4,11 @@
 
 mod common;
 
+use brume::geometry::slab::{Filter, Grid, LightSlab, Param, SlabHeader, SlabShape};
 use brume::math::color::Rgb;
 use brume::math::{Affine3A, Bounds3, Ray, Vec3};
 use brume::render::slab_bake::bake;
 use brume::render::RenderOptions;
-use brume::slab::{Filter, Grid, LightSlab, Param, SlabHeader, SlabShape};
 use common::stats::tolerance;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;

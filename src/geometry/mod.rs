@@ -3,19 +3,20 @@
 pub mod closed;
 pub mod moving;
 pub mod shapes;
+pub mod slab;
 mod ties;
 
 pub use moving::MovingShape;
 pub use shapes::{sphere_uv, AreaSample, Primitive, PrimitiveHit, QuadTest};
 
 use crate::math::{Bounds3, Ray, Vec2, Vec3};
-use crate::slab::lookup::SlabCrossing;
-use crate::slab::SlabShape;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{builder::build_bvh2, node::Bvh2Node, Bvh2};
 use obvhs::faststack::{HeapStack, StackStack};
 use obvhs::ray::{Ray as BvhRay, RayHit};
 use obvhs::BvhBuildParams;
+use slab::lookup::SlabCrossing;
+use slab::SlabShape;
 
 /// Smallest ray parameter accepted as a hit, relative to the scene scale.
 const T_MIN: f32 = 0.0;

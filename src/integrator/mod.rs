@@ -352,7 +352,7 @@ fn trace_segment<G: Gather>(
 fn slab_segment(
     scene: &Scene,
     path: &mut PathState,
-    crossing: &crate::slab::lookup::SlabCrossing,
+    crossing: &crate::geometry::slab::lookup::SlabCrossing,
     sampler: &mut Sampler,
 ) -> Step {
     if !scene.media.is_empty() {

@@ -2,10 +2,10 @@
 //! parallel, in passes, under the render's budget, progress and cancellation.
 
 use super::RenderOptions;
+use crate::geometry::slab::{LightSlab, Param, SlabHeader};
 use crate::integrator::slab_record::{self, RecordSums};
 use crate::integrator::Scene;
 use crate::math::color::Rgb;
-use crate::slab::{LightSlab, Param, SlabHeader};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -122,10 +122,12 @@ fn load_mitsuba(
             .map(|f| f.path),
     );
     warnings.splice(0..0, imported.warnings);
+    // Mitsuba has no light-slab table: an imported scene cannot be baked.
     Ok(Loaded {
         scene,
         inputs,
         warnings,
+        slab: None,
     })
 }
 

@@ -5,8 +5,8 @@ use super::description::{SceneDesc, ShapeDesc, SlabDesc};
 use super::validate::Check;
 use super::{resolve, shapes};
 use crate::error::Result;
+use crate::geometry::slab::{Filter, Grid, LightSlab, SlabShape};
 use crate::math::{Bounds3, Vec3};
-use crate::slab::{Filter, Grid, LightSlab, SlabShape};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -49,7 +49,7 @@ fn slab_spec(s: &SlabDesc, check: &Check) -> Result<SlabSpec> {
     }
     let nodes = |key: &str, v: Option<u32>, default: u32| -> Result<u32> {
         let v = v.unwrap_or(default);
-        let max = crate::slab::format::MAX_NODES;
+        let max = crate::geometry::slab::format::MAX_NODES;
         if !(2..=max).contains(&v) {
             return Err(check.error(
                 key,

@@ -3,10 +3,10 @@
 
 use brume::error::{Error, Result};
 use brume::film::output_safety::Plan;
+use brume::geometry::slab::SlabHeader;
 use brume::render::cli_values as values;
 use brume::render::slab_bake::{bake, bake_peak_bytes};
 use brume::render::RenderOptions;
-use brume::slab::SlabHeader;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Duration;

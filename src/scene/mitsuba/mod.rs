@@ -236,6 +236,7 @@ impl<'a> Builder<'a> {
             media_key: "medium",
             animation: Default::default(),
             film: FilmDesc::default(),
+            slab: None,
         };
         Ok(Imported {
             desc,

@@ -162,6 +162,7 @@ fn blank(kind: ShapeType) -> ShapeDesc {
         two_sided: false,
         transform: None,
         interior: None,
+        filter: None,
     }
 }
 
