@@ -66,22 +66,8 @@ pub fn bake(
             Some(_) => u32::MAX,
             None => options.spp,
         });
-        let finished = AtomicBool::new(true);
         let context = (scene, &param, header.seed);
-        // A stopped pass leaves the sums unfinished, but a stopped bake keeps nothing.
-        sums.par_chunks_mut(CHUNK)
-            .enumerate()
-            .for_each(|(c, chunk)| {
-                if cancel.load(Ordering::Relaxed) {
-                    finished.store(false, Ordering::Relaxed);
-                    return;
-                }
-                add_samples(context, c * CHUNK, chunk, samples.clone());
-                if options.time_budget.is_none() {
-                    bar.inc(chunk.len() as u64);
-                }
-            });
-        if !finished.load(Ordering::Relaxed) || cancel.load(Ordering::Relaxed) {
+        if !bake_pass(context, &mut sums, samples.clone(), (options, &bar, cancel)) {
             return true;
         }
         spp = samples.end;
@@ -112,6 +98,30 @@ pub fn bake(
         nonfinite,
         clamped,
     }
+}
+
+/// Adds the samples `samples` of every line to `sums`, in parallel chunks;
+/// false when a stop request cut the pass short (the sums are then unfinished).
+fn bake_pass(
+    context: (&Scene, &Param, u64),
+    sums: &mut [(Rgb, Rgb, u32, u32)],
+    samples: std::ops::Range<u32>,
+    (options, bar, cancel): (&RenderOptions, &ProgressBar, &AtomicBool),
+) -> bool {
+    let finished = AtomicBool::new(true);
+    sums.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            if cancel.load(Ordering::Relaxed) {
+                finished.store(false, Ordering::Relaxed);
+                return;
+            }
+            add_samples(context, c * CHUNK, chunk, samples.clone());
+            if options.time_budget.is_none() {
+                bar.inc(chunk.len() as u64);
+            }
+        });
+    finished.load(Ordering::Relaxed) && !cancel.load(Ordering::Relaxed)
 }
 
 /// The bar of a bake: `steps` record-passes, or a spinner under a time budget.

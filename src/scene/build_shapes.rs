@@ -6,10 +6,11 @@ use super::description::{self, MaterialDesc, SceneDesc, ShapeDesc};
 use super::validate::Check;
 use super::{interior, materials, resolve, shapes, textures};
 use crate::error::Result;
-use crate::geometry::{Geometry, MovingShape, BARYCENTRIC_UV};
+use crate::geometry::{Geometry, MovingShape, Primitive, BARYCENTRIC_UV};
 use crate::material::texture::Texture;
 use crate::material::Material;
 use crate::math::color::Rgb;
+use crate::math::Vec2;
 use crate::medium::Medium;
 use std::path::Path;
 
@@ -34,9 +35,7 @@ pub(super) fn build_shapes(
     base: &Path,
     timing: &Timing,
 ) -> Result<Shapes> {
-    let mut items = Vec::new();
-    let mut texcoords = Vec::new();
-    let mut any_vt = false;
+    let mut surfaces = Surfaces::default();
     let mut moving = Vec::new();
     let mut shape_materials = Vec::with_capacity(desc.shapes.len());
     let mut shape_textures = Vec::with_capacity(desc.shapes.len());
@@ -66,16 +65,7 @@ pub(super) fn build_shapes(
         let surface = add_interior(shape, &built, &field, (check, base, timing), &mut interiors)?;
         match keys {
             Some(keys) => moving.push(MovingShape::new(i as u32, built.primitives, keys)),
-            None if surface => {
-                // Texture coordinates are indexed like the primitives: only surfaces get both.
-                let n = built.primitives.len();
-                items.extend(built.primitives.into_iter().map(|p| (p, i as u32)));
-                any_vt |= built.texcoords.is_some();
-                match built.texcoords {
-                    Some(t) => texcoords.extend(t),
-                    None => texcoords.extend(std::iter::repeat_n(BARYCENTRIC_UV, n)),
-                }
-            }
+            None if surface => surfaces.add(built, i as u32),
             None => {}
         }
         let (material, texture) =
@@ -84,12 +74,9 @@ pub(super) fn build_shapes(
         shape_textures.push(texture);
         emissions.push(build_emission(shape, &field, check, base, &mut images)?);
     }
-    if !any_vt {
-        // Only OBJ corners carry coordinates of their own: keep no table without them.
-        texcoords = Vec::new();
-    }
     Ok(Shapes {
-        geometry: Geometry::with_texcoords(items, texcoords)
+        geometry: surfaces
+            .into_geometry()
             .with_moving(moving)
             .with_slabs(slabs),
         materials: shape_materials,
@@ -97,6 +84,41 @@ pub(super) fn build_shapes(
         emissions,
         interiors,
     })
+}
+
+/// The primitives of the static surfaces, each with its shape index and
+/// texture coordinates (indexed like the primitives: only surfaces get both).
+#[derive(Default)]
+struct Surfaces {
+    items: Vec<(Primitive, u32)>,
+    texcoords: Vec<[Vec2; 3]>,
+    any_vt: bool,
+}
+
+impl Surfaces {
+    /// Adds the primitives of shape `i`.
+    fn add(&mut self, built: shapes::BuiltShape, i: u32) {
+        let n = built.primitives.len();
+        self.items
+            .extend(built.primitives.into_iter().map(|p| (p, i)));
+        self.any_vt |= built.texcoords.is_some();
+        match built.texcoords {
+            Some(t) => self.texcoords.extend(t),
+            None => self
+                .texcoords
+                .extend(std::iter::repeat_n(BARYCENTRIC_UV, n)),
+        }
+    }
+
+    /// The geometry of the surfaces (moving shapes and slabs are added after).
+    fn into_geometry(self) -> Geometry {
+        // Only OBJ corners carry coordinates of their own: keep no table without them.
+        let texcoords = match self.any_vt {
+            true => self.texcoords,
+            false => Vec::new(),
+        };
+        Geometry::with_texcoords(self.items, texcoords)
+    }
 }
 
 /// Builds the medium inside `shape`, if it has one; returns whether the shape
