@@ -186,7 +186,7 @@ fn photon_keys_are_validated_in_the_users_words() {
         (
             "type = \"sppm\"\nradius = -0.1",
             "integrator.radius",
-            "must be positive",
+            "must be in [1e-9, 1e18], got -0.1",
         ),
         (
             "type = \"photons\"",
