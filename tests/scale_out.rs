@@ -276,7 +276,25 @@ fn merge_refuses_overlap_other_scenes_seeds_and_missing_pieces() {
     let junk = dir.path().join("junk.exr");
     std::fs::write(&junk, b"not an EXR at all").unwrap();
     let damaged = refusal(dir.path(), &[a.clone(), junk]);
-    assert!(damaged.contains("junk.exr: cannot read EXR"), "{damaged}");
+    assert!(
+        damaged.contains("junk.exr: is text, not an EXR image"),
+        "{damaged}"
+    );
+    // Named by what it is, in the user's words, not the EXR reader's.
+    let png = dir.path().join("preview.exr");
+    std::fs::write(&png, b"\x89PNG\r\n\x1a\n0000").unwrap();
+    let png_refusal = refusal(dir.path(), &[a.clone(), png]);
+    assert!(
+        png_refusal.contains("preview.exr: is a PNG image, not an EXR image"),
+        "{png_refusal}"
+    );
+    let cut = dir.path().join("cut.exr");
+    std::fs::write(&cut, [0x76, 0x2f, 0x31, 0x01, 2, 0]).unwrap();
+    let cut_refusal = refusal(dir.path(), &[a.clone(), cut]);
+    assert!(
+        cut_refusal.contains("cut.exr: cannot read EXR"),
+        "{cut_refusal}"
+    );
 
     let plain = dir.path().join("plain.exr");
     brume::film::image_io::write_exr(&plain, &film(&a).beauty_image()).unwrap();

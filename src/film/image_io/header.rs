@@ -135,6 +135,9 @@ fn input(path: &Path, message: String) -> Error {
 pub(crate) fn check_exr(path: &Path, keep: Keep) -> Result<()> {
     let cannot = |e: &dyn std::fmt::Display| input(path, format!("cannot read EXR: {e}"));
     let file_len = std::fs::metadata(path).map_err(|e| cannot(&e))?.len();
+    if let Some(kind) = not_exr(path) {
+        return Err(input(path, format!("is {kind}, not an EXR image")));
+    }
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| cannot(&e))?;
     let declared = Declared::exr(&meta.headers, keep).map_err(|m| cannot(&m))?;
     if (file_len as u128) < declared.least_file {
@@ -192,4 +195,31 @@ pub(crate) fn check_png(
         ));
     }
     limits::check(decoded).map_err(|refusal| input(path, format!("{describe}, {refusal}")))
+}
+
+/// The EXR magic number (OpenEXR's `20000630`, little-endian).
+const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+
+/// What the file at `path` is when its first bytes are not an EXR's (None
+/// when they are, or when it cannot be read: the EXR reader says why).
+fn not_exr(path: &Path) -> Option<String> {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(16);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(16).read_to_end(&mut head))
+        .ok()?;
+    if head.starts_with(&EXR_MAGIC) {
+        return None;
+    }
+    Some(match head.as_slice() {
+        [] => "empty (0 bytes)".into(),
+        [0x89, b'P', b'N', b'G', ..] => "a PNG image".into(),
+        [b'#', b'?', ..] => "a Radiance .hdr image".into(),
+        [0x20, 0x42, 0x44, 0x56, ..] => "an OpenVDB file".into(),
+        h if std::str::from_utf8(h).is_ok() && !h.contains(&0) => "text".into(),
+        h => {
+            let bytes: Vec<String> = h.iter().take(8).map(|b| format!("{b:02x}")).collect();
+            format!("data of an unknown kind (first bytes {})", bytes.join(" "))
+        }
+    })
 }
