@@ -381,3 +381,52 @@ fn sees_ball(scene: &Scene, b: u32) -> Vec<bool> {
     }
     out
 }
+
+/// Photons are counted against the memory limit while a pass traces them:
+/// a pass that would hold more stops at once, nothing is written, and the
+/// error names the scene key, the limit and the ways past it (exit 2). The
+/// same scene within the limit renders.
+#[test]
+fn photons_over_the_memory_limit_are_refused_naming_the_key() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = dir.path().join("room.toml");
+    let text =
+        room_scene("", 2_000_000, 0.05).replace("max_depth = 1000", "max_depth = 1000\nspp = 2");
+    std::fs::write(&scene, text).expect("write scene");
+    let run = |limit: &str, out: &str| {
+        bdpt_support::common::cli::brume()
+            .arg("render")
+            .arg(&scene)
+            .args(["--quiet", "--memory-limit", limit, "--out"])
+            .arg(dir.path().join(format!("{out}.exr")))
+            .arg("--png")
+            .arg(dir.path().join(format!("{out}.png")))
+            .output()
+            .expect("run brume")
+    };
+    let refused = run("0.05", "small");
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{err}");
+    for says in [
+        "room.toml",
+        "integrator.photons",
+        "pass 1's",
+        "memory limit of 50.0 MB",
+        "--memory-limit",
+    ] {
+        assert!(err.contains(says), "missing {says:?}: {err}");
+    }
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(!dir.path().join("small.exr").exists() && !dir.path().join("small.png").exists());
+    let small =
+        room_scene("", 2_000, 0.05).replace("max_depth = 1000", "max_depth = 1000\nspp = 2");
+    std::fs::write(&scene, small).expect("write scene");
+    let fits = run("0.05", "fits");
+    assert_eq!(
+        fits.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&fits.stderr)
+    );
+    assert!(dir.path().join("fits.exr").exists());
+}

@@ -37,10 +37,10 @@ pub trait Estimator: Sync {
     }
 
     /// Prepares sample index `s` of every pixel before any pixel takes it
-    /// (called only when [`Estimator::pass_samples`] is `Some`); false when
-    /// `cancel` stopped it, and the pass is then not rendered.
-    fn prepare(&self, _scene: &Scene, _s: u32, _cancel: &AtomicBool) -> bool {
-        true
+    /// (called only when [`Estimator::pass_samples`] is `Some`); the pass is
+    /// rendered only when it is [`Prepared::Ready`].
+    fn prepare(&self, _scene: &Scene, _s: u32, _cancel: &AtomicBool) -> Prepared {
+        Prepared::Ready
     }
 
     /// The radiance of sample `s` of pixel (`x`, `y`) (NaN or infinite
@@ -54,6 +54,22 @@ pub trait Estimator: Sync {
         arena: &mut Self::Arena,
         splats: &mut Vec<Splat>,
     ) -> Rgb;
+}
+
+/// How the preparation of a pass ended.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Prepared {
+    /// The pass may be rendered.
+    Ready,
+    /// `cancel` stopped it.
+    Stopped,
+    /// It cannot be done: the scene key to blame and why, in the user's words.
+    Refused {
+        /// The scene key, e.g. `integrator.photons`.
+        key: &'static str,
+        /// What went wrong and how to get past it.
+        message: String,
+    },
 }
 
 /// The unidirectional volumetric path tracer (`integrator::li`): no splats.

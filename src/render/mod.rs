@@ -72,6 +72,18 @@ pub struct RenderOutput {
     pub mlt: Option<crate::integrator::mlt::MltStats>,
     /// A piloted render's sample counts and estimated error (None for uniform renders).
     pub noise: Option<adaptive::NoiseReport>,
+    /// Why the estimator refused a pass, when it did: the render stopped
+    /// there (the image holds the passes before it, marked partial).
+    pub refused: Option<Refused>,
+}
+
+/// A pass the estimator could not do (e.g. photons over the memory limit).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Refused {
+    /// The scene key to blame, e.g. `integrator.photons`.
+    pub key: &'static str,
+    /// What went wrong and how to get past it.
+    pub message: String,
 }
 
 /// Bytes of the film per pixel: beauty sums and squares, finite and left-out counts.

@@ -3,9 +3,11 @@
 
 use super::adaptive::NoiseReport;
 use super::group::{Buffers, Group, RayCounts};
+use super::Refused;
 use super::{pass_pixel_bytes, Estimator, Job, PassObserver, RenderOptions, RenderOutput};
 use crate::film::{Film, SampleRange};
 use crate::integrator::aov::Aov;
+use crate::integrator::estimator::Prepared;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -23,6 +25,8 @@ pub(super) struct Run<'a, E> {
     pub(super) start: Instant,
     spp_done: u32,
     pub(super) partial: bool,
+    /// Why the estimator refused a pass, when it did (the render ends there).
+    refused: Option<Refused>,
     pub(super) rays: RayCounts,
     /// A piloted render's samples and estimates (module `adaptive`).
     pub(super) piloted: Option<Piloted>,
@@ -63,6 +67,7 @@ impl<'a, E: Estimator> Run<'a, E> {
             start: Instant::now(),
             spp_done: 0,
             partial: false,
+            refused: None,
             rays: RayCounts::default(),
             piloted: None,
         }
@@ -155,9 +160,20 @@ impl<'a, E: Estimator> Run<'a, E> {
     }
 
     /// Runs the estimator's preparation of samples `first..first + count`;
-    /// false when a stop request cut it short.
-    fn prepare(&self, first: u32, count: u32) -> bool {
-        (first..first + count).all(|s| self.job.estimator.prepare(self.job.scene, s, self.cancel))
+    /// false when a stop request cut it short or the estimator refused (kept
+    /// in `refused`).
+    fn prepare(&mut self, first: u32, count: u32) -> bool {
+        for s in first..first + count {
+            match self.job.estimator.prepare(self.job.scene, s, self.cancel) {
+                Prepared::Ready => {}
+                Prepared::Stopped => return false,
+                Prepared::Refused { key, message } => {
+                    self.refused = Some(Refused { key, message });
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// Adds pass `k` of the group's buffers (`count` samples) to the film.
@@ -243,6 +259,7 @@ impl<'a, E: Estimator> Run<'a, E> {
             tracking: self.rays.tracking,
             truncated_interiors: self.rays.truncated_interiors,
             mlt: None,
+            refused: self.refused,
         }
     }
 }

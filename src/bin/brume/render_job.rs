@@ -61,22 +61,39 @@ pub(crate) fn render_and_write(
         &mut display,
         checkpoint.as_mut(),
     );
+    let refused = out.refused.as_ref().map(|r| Error::Scene {
+        file: args.scene.clone(),
+        field: r.key.into(),
+        message: r.message.clone(),
+    });
     if out.image.spp == 0 {
-        // Only a stop before the first pass finished gets here: an image of
-        // 0 samples is black, and must not replace an earlier render.
-        eprintln!(
-            "interrupted before the first pass finished: nothing written, {} and {} left as they were",
-            exr_path.display(),
-            png_path.display()
-        );
-        return Ok(EXIT_INTERRUPTED);
+        return nothing_to_save(refused, exr_path, png_path);
     }
     out.film.provenance.scene_hash = scene_hash;
     let code = save(job, &out, (exr_path, png_path), checkpoint.as_mut())?;
+    if let Some(error) = refused {
+        // The passes before the refused one were saved (said by `save`).
+        return Err(error);
+    }
     if let Some(warning) = display.and_then(|d| d.finish(job.cancel, DISPLAY_FINAL_WAIT)) {
         eprintln!("warning: --display: {warning}");
     }
     Ok(code)
+}
+
+/// Ends a render that finished no pass: an image of 0 samples is black,
+/// and must not replace an earlier render. A refused first pass is its
+/// error; else a stop came before the first pass finished.
+fn nothing_to_save(refused: Option<Error>, exr_path: &Path, png_path: &Path) -> Result<i32> {
+    if let Some(error) = refused {
+        return Err(error);
+    }
+    eprintln!(
+        "interrupted before the first pass finished: nothing written, {} and {} left as they were",
+        exr_path.display(),
+        png_path.display()
+    );
+    Ok(EXIT_INTERRUPTED)
 }
 
 /// The checkpoint writer of `--checkpoint SECONDS`, over the render's own outputs.
@@ -144,15 +161,19 @@ fn save(
         return Ok(0);
     }
     // Said even with --quiet: the caller must know the image is not the full render.
+    let (why, stop) = match out.refused.is_some() {
+        true => ("stopped by the error below", "the error"),
+        false => ("interrupted", "the stop"),
+    };
     match (&place.exr, &place.png) {
         (Some(exr), Some(png)) => eprintln!(
-            "interrupted: saved the {} spp finished before the stop to {} and {}",
+            "{why}: saved the {} spp finished before {stop} to {} and {}",
             out.image.spp,
             exr.display(),
             png.display()
         ),
         _ => eprintln!(
-            "interrupted: the {} spp finished before the stop were not saved",
+            "{why}: the {} spp finished before {stop} were not saved",
             out.image.spp
         ),
     }

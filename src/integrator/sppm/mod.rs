@@ -28,25 +28,26 @@ mod gather;
 mod grid;
 pub mod photons;
 
+use crate::error::limits;
 use crate::film::Splat;
 use crate::integrator::bdpt::scene_sphere;
-use crate::integrator::estimator::Estimator;
+use crate::integrator::estimator::{Estimator, Prepared};
 use crate::integrator::{li_gathering, Scene};
 use crate::light::SceneSphere;
 use crate::math::color::Rgb;
 use crate::sampling::chi2::ln_gamma;
 use crate::sampling::PixelStreams;
 use gather::Gatherer;
-use photons::PhotonMap;
+use photons::{Built, PhotonMap, PHOTON_PEAK_BYTES};
 use std::sync::atomic::AtomicBool;
 use std::sync::RwLock;
 
 /// Light paths traced per pass unless `integrator.photons` says otherwise.
 pub const DEFAULT_PHOTONS: u32 = 100_000;
 
-/// Most light paths per pass (`integrator.photons`): photons take about
-/// 150 bytes each at their peak (traced, copied into the map, gridded), so
-/// light paths that leave ten photons each stay near 3 GB.
+/// Most light paths per pass (`integrator.photons`). The photons they leave
+/// are counted against the memory limit while a pass traces them
+/// ([`photons::PHOTON_PEAK_BYTES`] each): a pass over it is refused.
 pub const MAX_PHOTONS: u32 = 2_000_000;
 
 /// The default first radius as a fraction of the radius of the sphere
@@ -146,13 +147,33 @@ impl Estimator for Sppm {
         Some(1)
     }
 
-    fn prepare(&self, scene: &Scene, s: u32, cancel: &AtomicBool) -> bool {
+    fn prepare(&self, scene: &Scene, s: u32, cancel: &AtomicBool) -> Prepared {
         let mut map = self.map.write().unwrap_or_else(|e| e.into_inner());
         if map.pass == Some(s) {
-            return true;
+            return Prepared::Ready;
         }
+        let limit = match limits::memory_limit() {
+            Ok(limit) => limit,
+            Err(refusal) => return over_budget(refusal.to_string()),
+        };
         let radius = pass_radius(self.radius, self.alpha, s);
-        map.build(scene, &self.sphere, (s, self.photons, radius), cancel)
+        let pass = (s, self.photons, radius);
+        match map.build(scene, &self.sphere, pass, (limit.bytes, cancel)) {
+            Built::Ready => Prepared::Ready,
+            Built::Stopped => Prepared::Stopped,
+            Built::OverBudget { photons } => {
+                let refusal = limits::Refusal::Exceeded {
+                    limit,
+                    machine: false,
+                };
+                over_budget(format!(
+                    "pass {}'s {} light paths leave at least {photons} photons, {} at {PHOTON_PEAK_BYTES} bytes each: {refusal}; or lower integrator.photons or integrator.max_depth",
+                    s + 1,
+                    self.photons,
+                    limits::format_bytes(u128::from(photons) * u128::from(PHOTON_PEAK_BYTES)),
+                ))
+            }
+        }
     }
 
     fn sample(
@@ -183,6 +204,14 @@ impl Estimator for Sppm {
         };
         let direct = li_gathering(scene, ray, &mut sampler, &mut gatherer, None);
         direct + gatherer.radiance
+    }
+}
+
+/// A pass refused for its photons' memory.
+fn over_budget(message: String) -> Prepared {
+    Prepared::Refused {
+        key: "integrator.photons",
+        message,
     }
 }
 

@@ -15,10 +15,43 @@ use crate::math::Vec3;
 use crate::medium::PhaseFunction;
 use crate::sampling::Sampler;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 /// Photons traced by one task (a stop request is seen between chunks).
 const CHUNK: usize = 2048;
+
+/// Bytes one stored photon takes at the pass's peak: its position and data
+/// in its task's buffer and again in the map, and its grid entries.
+pub const PHOTON_PEAK_BYTES: u64 = (2
+    * (std::mem::size_of::<Vec3>()
+        + max_usize(
+            std::mem::size_of::<SurfacePhoton>(),
+            std::mem::size_of::<VolumePhoton>(),
+        ))
+    + 2 * std::mem::size_of::<u32>()) as u64;
+
+const fn max_usize(a: usize, b: usize) -> usize {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// How a photon pass ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Built {
+    /// The map is ready for the pass's eye samples.
+    Ready,
+    /// A stop request cut it short (the map is unusable).
+    Stopped,
+    /// Its photons would take more than the byte budget: at least this many
+    /// were stored when tracing stopped (the map is unusable).
+    OverBudget {
+        /// Photons stored when the budget ran out.
+        photons: u64,
+    },
+}
 
 /// Salt of the photon streams: keeps them apart from every pixel stream.
 const PHOTON_SALT: u64 = 0x5EED_F07C_0A11_u64;
@@ -101,6 +134,13 @@ struct Chunk {
     volume: Photons<VolumePhoton>,
 }
 
+impl Chunk {
+    /// Photons held, of both kinds.
+    fn len(&self) -> usize {
+        self.surface.positions.len() + self.volume.positions.len()
+    }
+}
+
 /// The photon map of one pass.
 #[derive(Default)]
 pub struct PhotonMap {
@@ -119,15 +159,21 @@ pub struct PhotonMap {
 
 impl PhotonMap {
     /// Traces `emitted` light paths for `pass` and grids their photons with
-    /// `radius`; false (the map left unusable) when `cancel` stopped it.
+    /// `radius`, holding at most `budget` bytes of photons
+    /// ([`PHOTON_PEAK_BYTES`] each). Whether the budget runs out does not
+    /// depend on the thread count: the stored count only grows, so it passes
+    /// the budget during the pass exactly when the whole pass's count would.
     pub fn build(
         &mut self,
         scene: &Scene,
         sphere: &SceneSphere,
         (pass, emitted, radius): (u32, u32, f32),
-        cancel: &AtomicBool,
-    ) -> bool {
+        (budget, cancel): (u64, &AtomicBool),
+    ) -> Built {
         self.pass = None;
+        let most = budget / PHOTON_PEAK_BYTES;
+        let stored = AtomicU64::new(0);
+        let over = AtomicBool::new(false);
         let n = emitted as usize;
         self.chunks.resize_with(n.div_ceil(CHUNK), Chunk::default);
         self.chunks
@@ -136,16 +182,36 @@ impl PhotonMap {
             .for_each(|(c, chunk)| {
                 chunk.surface.clear();
                 chunk.volume.clear();
-                if cancel.load(Ordering::Relaxed) {
-                    return;
-                }
                 for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                    if cancel.load(Ordering::Relaxed) || over.load(Ordering::Relaxed) {
+                        return;
+                    }
+                    let before = chunk.len();
                     trace_photon(scene, sphere, pass, i as u32, chunk);
+                    let added = (chunk.len() - before) as u64;
+                    if stored.fetch_add(added, Ordering::Relaxed) + added > most {
+                        over.store(true, Ordering::Relaxed);
+                    }
                 }
             });
-        if cancel.load(Ordering::Relaxed) {
-            return false;
+        if over.load(Ordering::Relaxed) {
+            self.release();
+            return Built::OverBudget {
+                photons: stored.load(Ordering::Relaxed),
+            };
         }
+        if cancel.load(Ordering::Relaxed) {
+            return Built::Stopped;
+        }
+        self.gather_chunks(radius);
+        self.pass = Some(pass);
+        self.radius = radius;
+        self.emitted = emitted;
+        Built::Ready
+    }
+
+    /// Moves the chunks' photons into the map, in chunk order, and grids them.
+    fn gather_chunks(&mut self, radius: f32) {
         self.surface.clear();
         self.volume.clear();
         for chunk in &self.chunks {
@@ -154,10 +220,11 @@ impl PhotonMap {
         }
         self.surface.grid.build(&self.surface.positions, radius);
         self.volume.grid.build(&self.volume.positions, radius);
-        self.pass = Some(pass);
-        self.radius = radius;
-        self.emitted = emitted;
-        true
+    }
+
+    /// Frees every photon buffer (after a pass over its budget).
+    fn release(&mut self) {
+        *self = PhotonMap::default();
     }
 
     /// Bytes the map holds now (photons, grids and the tasks' buffers).
