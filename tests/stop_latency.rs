@@ -266,3 +266,39 @@ fn sigint_is_answered_at_once_during_the_mlt_bootstrap() {
     assert!(err.contains("nothing written"), "{err}");
     assert!(!dir.path().join("s.exr").exists());
 }
+
+/// A timed render asks for what it reaches, so its film is complete after a
+/// stop; its image is still the stopped one and gets the fast encodings
+/// (run-length EXR), as every image written on the way to the exit does.
+/// It got the small, slow ZIP encoding: a stop at 4096² with five AOVs took
+/// 4.4 s instead of 2.5 s.
+#[test]
+fn a_stopped_timed_render_is_written_with_the_fast_encoding() {
+    let _serial = one_at_a_time();
+    let dir = tempfile::tempdir().unwrap();
+    write_scene(dir.path(), 128, 1, true);
+    let mut wait_for_pass = Duration::from_millis(500);
+    for _ in 0..4 {
+        let child = spawn(
+            dir.path(),
+            &[
+                "render", "s.toml", "--quiet", "--time", "600", "--aovs", "depth",
+            ],
+        );
+        std::thread::sleep(wait_for_pass);
+        let (out, _) = stop(child, libc::SIGINT);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(130), "{err}");
+        if err.contains("nothing written") {
+            wait_for_pass *= 2;
+            continue;
+        }
+        let meta = exr::meta::MetaData::read_from_file(dir.path().join("s.exr"), false).unwrap();
+        assert_eq!(
+            meta.headers[0].compression,
+            exr::compression::Compression::RLE
+        );
+        return;
+    }
+    panic!("no pass finished before the stop in 4 runs");
+}

@@ -196,6 +196,43 @@ impl Film {
         (layer.sums[i * layer.channels.len() + c] / n as f64) as f32
     }
 
+    /// The means of every channel of `layer`, one vector per channel, equal
+    /// to [`Film::mean`] pixel by pixel. One parallel pass over the pixels
+    /// reads each pixel's sums and count once: after a stop with AOVs at
+    /// 4096² this stands between the request and the exit (a pass per
+    /// channel, striding over the sums, was a third of that time).
+    pub fn layer_means(&self, layer: &Layer) -> Vec<Vec<f32>> {
+        /// Pixels per task.
+        const CHUNK: usize = 1 << 14;
+        let k = layer.channels.len();
+        let n = self.window.area();
+        let counts = layer.counts.as_deref().unwrap_or(&self.counts);
+        let mut outs = vec![vec![0.0f32; n]; k];
+        let mut tasks: Vec<Vec<&mut [f32]>> = (0..n.div_ceil(CHUNK)).map(|_| Vec::new()).collect();
+        for out in outs.iter_mut() {
+            for (t, chunk) in out.chunks_mut(CHUNK).enumerate() {
+                tasks[t].push(chunk);
+            }
+        }
+        tasks
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(t, mut chunks)| {
+                let first = t * CHUNK;
+                for j in 0..chunks[0].len() {
+                    let i = first + j;
+                    let sums = &layer.sums[i * k..(i + 1) * k];
+                    for (c, chunk) in chunks.iter_mut().enumerate() {
+                        chunk[j] = match counts[i] {
+                            0 => layer.empty,
+                            m => (sums[c] / m as f64) as f32,
+                        };
+                    }
+                }
+            });
+        outs
+    }
+
     /// The splat part of pixel index `i`: its splat sums over the samples
     /// per pixel held (0 without splats).
     pub fn splat_value(&self, i: usize) -> [f64; 3] {

@@ -67,3 +67,43 @@ fn a_pixel_is_its_mean_plus_its_splats_over_the_samples_per_pixel() {
     assert_eq!(film.pixel(0), Rgb::BLACK);
     assert_eq!(film.beauty_image().pixels[5], film.pixel(5));
 }
+
+#[test]
+fn layer_means_are_the_means_of_every_channel() {
+    // Over two tasks of pixels, with pixels of no samples (the empty value),
+    // a layer with its own counts (depth) and one on the film's (normal).
+    let (w, h) = (200, 170);
+    let mut film = Film::new((w, h), Rect::full(w, h), provenance(vec![]));
+    film.add_aov(Aov::Depth);
+    film.add_aov(Aov::Normal);
+    let n = (w * h) as usize;
+    for i in 0..n {
+        film.counts[i] = (i % 5) as u32;
+    }
+    for layer in film.layers.iter_mut() {
+        let k = layer.channels.len();
+        for (j, s) in layer.sums.iter_mut().enumerate() {
+            *s = (j as f64).sin() * 7.0 + (j / k) as f64;
+        }
+        if let Some(counts) = layer.counts.as_mut() {
+            for (i, c) in counts.iter_mut().enumerate() {
+                *c = (i % 3) as u32;
+            }
+        }
+    }
+    for layer in &film.layers[1..] {
+        let means = film.layer_means(layer);
+        assert_eq!(means.len(), layer.channels.len());
+        for (c, values) in means.iter().enumerate() {
+            assert_eq!(values.len(), n);
+            for (i, &v) in values.iter().enumerate() {
+                assert_eq!(
+                    v.to_bits(),
+                    film.mean(layer, i, c).to_bits(),
+                    "{} {c} {i}",
+                    layer.name
+                );
+            }
+        }
+    }
+}

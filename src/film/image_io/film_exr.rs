@@ -48,25 +48,29 @@ pub fn write_film_exr(path: &Path, film: &Film) -> Result<()> {
 /// `brume:count.NAME` (each AOV's), `brume:version`, and for a piloted
 /// render `brume:adaptive` (its pilot, counts and estimated error).
 pub fn write_film_exr_with(path: &Path, film: &Film, extra: &[super::NamedChannel]) -> Result<()> {
-    write_film(path, film, None, extra)
+    write_film(path, film, (None, !film.provenance.complete()), extra)
 }
 
 /// [`write_film_exr_with`] given the film's beauty image already computed
 /// (`Film::beauty_image`), so that a stopped render does not compute its
-/// pixels twice on the way to the exit.
+/// pixels twice on the way to the exit. A stopped render's image (marked
+/// partial) gets the fast encoding even when the film is complete: a timed
+/// render asks for what it reached, so its film is complete after a stop.
 pub fn write_film_exr_beauty(
     path: &Path,
     film: &Film,
     beauty: &super::Image,
     extra: &[super::NamedChannel],
 ) -> Result<()> {
-    write_film(path, film, Some(&beauty.pixels), extra)
+    let fast = beauty.partial || !film.provenance.complete();
+    write_film(path, film, (Some(&beauty.pixels), fast), extra)
 }
 
+/// Writes `film` with its `beauty` if computed, in the fast encoding if `fast`.
 fn write_film(
     path: &Path,
     film: &Film,
-    beauty: Option<&[Rgb]>,
+    (beauty, fast): (Option<&[Rgb]>, bool),
     extra: &[super::NamedChannel],
 ) -> Result<()> {
     let w = &film.window;
@@ -93,10 +97,10 @@ fn write_film(
     let mut layers = vec![ExrLayer::new(
         (w.width() as usize, w.height() as usize),
         attributes,
-        super::exr_encoding(!film.provenance.complete()),
+        super::exr_encoding(fast),
         AnyChannels::sort(channels),
     )];
-    layers.extend(splat_part(film));
+    layers.extend(splat_part(film, fast));
     let display = IntegerBounds::new((0, 0), (film.display.0 as usize, film.display.1 as usize));
     let image = ExrImage::from_layers(ImageAttributes::new(display), layers);
     super::write_atomically(path, |tmp| {
@@ -126,11 +130,7 @@ fn image_channels(film: &Film, beauty: Option<&[Rgb]>) -> Channels {
         ));
     }
     for layer in &film.layers[1..] {
-        for (c, name) in layer.channels.iter().enumerate() {
-            let values = (0..n)
-                .into_par_iter()
-                .map(|i| film.mean(layer, i, c))
-                .collect();
+        for (name, values) in layer.channels.iter().zip(film.layer_means(layer)) {
             out.push(AnyChannel::new(name.as_str(), FlatSamples::F32(values)));
         }
     }
@@ -139,7 +139,7 @@ fn image_channels(film: &Film, beauty: Option<&[Rgb]>) -> Channels {
 
 /// The `splats` part: the splat sums over the samples per pixel held, on
 /// the whole display window.
-fn splat_part(film: &Film) -> Option<ExrLayer<AnyChannels<FlatSamples>>> {
+fn splat_part(film: &Film, fast: bool) -> Option<ExrLayer<AnyChannels<FlatSamples>>> {
     let splats = film.splats.as_ref()?;
     let spp = film.provenance.spp_held().max(1) as f64;
     let mut channels = Channels::new();
@@ -158,7 +158,7 @@ fn splat_part(film: &Film) -> Option<ExrLayer<AnyChannels<FlatSamples>>> {
     Some(ExrLayer::new(
         (film.display.0 as usize, film.display.1 as usize),
         attributes,
-        super::exr_encoding(!film.provenance.complete()),
+        super::exr_encoding(fast),
         AnyChannels::sort(channels),
     ))
 }
