@@ -71,10 +71,16 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "beam_width",
     );
     refuses(
-        r#"<shape type="sphere"><bsdf type="roughconductor"/></shape>"#,
+        r#"<shape type="sphere"><bsdf type="roughconductor"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.3"/></bsdf></shape>"#,
         3,
-        r#"<bsdf type="roughconductor">"#,
-        "Beckmann",
+        r#"<float name="alpha_v">"#,
+        "anisotropic",
+    );
+    refuses(
+        r#"<shape type="sphere"><bsdf type="roughdielectric"><string name="distribution" value="phong"/></bsdf></shape>"#,
+        3,
+        r#"<string name="distribution">"#,
+        "beckmann and ggx",
     );
     refuses(
         r#"<shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape>"#,

@@ -70,7 +70,7 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::ConductorFresnel;
+    use crate::material::{ConductorFresnel, Distribution};
     use crate::sampling::Sampler;
 
     /// The adjoint weight of every non-delta BSDF is `eval` of the swapped
@@ -90,6 +90,7 @@ mod tests {
             Material::Dielectric {
                 ior: 1.5,
                 alpha: 0.3,
+                distribution: Distribution::Ggx,
                 multiscatter: false,
             },
             Material::Conductor {
@@ -97,11 +98,13 @@ mod tests {
                 fresnel: ConductorFresnel::Schlick {
                     f0: Rgb::new(0.9, 0.6, 0.3),
                 },
+                distribution: Distribution::Ggx,
                 multiscatter: false,
             },
             Material::Dielectric {
                 ior: 1.5,
                 alpha: 0.6,
+                distribution: Distribution::Ggx,
                 multiscatter: true,
             },
             Material::Conductor {
@@ -109,6 +112,7 @@ mod tests {
                 fresnel: ConductorFresnel::Schlick {
                     f0: Rgb::new(0.9, 0.6, 0.3),
                 },
+                distribution: Distribution::Ggx,
                 multiscatter: true,
             },
         ];
@@ -147,6 +151,7 @@ mod tests {
         let glass = Material::Dielectric {
             ior: 1.5,
             alpha: 0.0,
+            distribution: Distribution::Ggx,
             multiscatter: false,
         };
         let n = Vec3::Y;

@@ -11,7 +11,9 @@ pub mod texture;
 
 pub mod albedo;
 pub mod albedo_estimate;
+pub mod beckmann;
 pub mod fresnel;
+mod lobe;
 pub mod microfacet;
 pub mod multiscatter;
 mod rough;
@@ -19,7 +21,8 @@ mod rough;
 use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
-use microfacet::Ggx;
+use lobe::Rough;
+pub use microfacet::Distribution;
 use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Smallest GGX α of a rough lobe; below it the lobe is treated as smooth.
@@ -96,18 +99,22 @@ pub enum Material {
     Dielectric {
         /// Index of refraction of the inside (the normal points outside, index 1).
         ior: f32,
-        /// GGX α of the surface; 0 is a smooth (delta) interface.
+        /// Microfacet α of the surface; 0 is a smooth (delta) interface.
         alpha: f32,
-        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]).
+        /// The microfacet distribution of a rough surface.
+        distribution: Distribution,
+        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]; GGX only).
         multiscatter: bool,
     },
     /// A metal: Fresnel-weighted reflection off a smooth or GGX-rough surface.
     Conductor {
-        /// GGX α of the surface; 0 is a smooth (delta) mirror.
+        /// Microfacet α of the surface; 0 is a smooth (delta) mirror.
         alpha: f32,
         /// Reflectance model.
         fresnel: ConductorFresnel,
-        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]).
+        /// The microfacet distribution of a rough surface.
+        distribution: Distribution,
+        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]; GGX only).
         multiscatter: bool,
     },
 }
@@ -167,10 +174,12 @@ impl Material {
             Material::Conductor {
                 alpha,
                 fresnel: ConductorFresnel::Schlick { .. },
+                distribution,
                 multiscatter,
             } => Material::Conductor {
                 alpha,
                 fresnel: ConductorFresnel::Schlick { f0: color },
+                distribution,
                 multiscatter,
             },
             other => other,
@@ -190,32 +199,15 @@ impl Material {
                 let cos_alpha = reflect(wo, n).dot(wi).max(0.0);
                 albedo * ((exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(exponent) * cos_i)
             }
-            Material::Dielectric {
-                ior,
-                alpha,
-                multiscatter,
-            } => {
+            Material::Dielectric { ior, .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
-                if multiscatter {
-                    multiscatter::dielectric_eval(ggx, eta, lo, li)
-                } else {
-                    rough::dielectric_eval(ggx, eta, lo, li)
-                }
+                self.rough().dielectric_eval(relative_eta(ior, sp), lo, li)
             }
-            Material::Conductor {
-                alpha,
-                fresnel,
-                multiscatter,
-            } => {
+            Material::Conductor { fresnel, .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                if multiscatter {
-                    multiscatter::conductor_eval(Ggx { alpha }, &fresnel, lo, li)
-                } else {
-                    rough::conductor_eval(Ggx { alpha }, &fresnel, lo, li)
-                }
+                self.rough().conductor_eval(&fresnel, lo, li)
             }
             _ => Rgb::BLACK,
         }
@@ -234,32 +226,15 @@ impl Material {
                 let cos_alpha = reflect(wo, n).dot(wi).max(0.0);
                 (exponent + 1.0) / (2.0 * PI) * cos_alpha.powf(exponent)
             }
-            Material::Dielectric {
-                ior,
-                alpha,
-                multiscatter,
-            } => {
+            Material::Dielectric { ior, .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
-                if multiscatter {
-                    multiscatter::dielectric_pdf(ggx, eta, lo, li)
-                } else {
-                    rough::dielectric_pdf(ggx, eta, lo, li)
-                }
+                self.rough().dielectric_pdf(relative_eta(ior, sp), lo, li)
             }
-            Material::Conductor {
-                alpha,
-                multiscatter,
-                ..
-            } => {
+            Material::Conductor { .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                if multiscatter {
-                    multiscatter::conductor_pdf(Ggx { alpha }, lo, li)
-                } else {
-                    rough::conductor_pdf(Ggx { alpha }, lo, li)
-                }
+                self.rough().conductor_pdf(lo, li)
             }
             _ => 0.0,
         }
@@ -307,38 +282,49 @@ impl Material {
     }
 
     /// [`Material::sample`] of a rough dielectric or conductor: the GGX lobe,
+    /// GGX or Beckmann,
     /// with its energy compensation where `multiscatter` is on.
     fn sample_rough(&self, sp: &Shading, wo: Vec3, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
         let frame = Frame::from_z(sp.n);
         let lo = frame.to_local(wo);
         let s = match *self {
-            Material::Dielectric {
-                ior,
-                alpha,
-                multiscatter,
-            } => {
-                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
-                if multiscatter {
-                    multiscatter::dielectric_sample(ggx, eta, lo, u, u_lobe)
-                } else {
-                    rough::dielectric_sample(ggx, eta, lo, u, u_lobe)
-                }
+            Material::Dielectric { ior, .. } => {
+                self.rough()
+                    .dielectric_sample(relative_eta(ior, sp), lo, u, u_lobe)
             }
-            Material::Conductor {
-                alpha,
-                fresnel,
-                multiscatter,
-            } => {
-                let ggx = Ggx { alpha };
-                if multiscatter {
-                    multiscatter::conductor_sample(ggx, &fresnel, lo, u, u_lobe)
-                } else {
-                    rough::conductor_sample(ggx, &fresnel, lo, u)
-                }
+            Material::Conductor { fresnel, .. } => {
+                self.rough().conductor_sample(&fresnel, lo, u, u_lobe)
             }
             _ => None,
         }?;
         Some(to_world(&frame, s))
+    }
+
+    /// The microfacet model of a dielectric or conductor (a smooth GGX for the others, unused).
+    fn rough(&self) -> Rough {
+        match *self {
+            Material::Dielectric {
+                alpha,
+                distribution,
+                multiscatter,
+                ..
+            }
+            | Material::Conductor {
+                alpha,
+                distribution,
+                multiscatter,
+                ..
+            } => Rough {
+                alpha,
+                distribution,
+                multiscatter,
+            },
+            _ => Rough {
+                alpha: 0.0,
+                distribution: Distribution::Ggx,
+                multiscatter: false,
+            },
+        }
     }
 }
 

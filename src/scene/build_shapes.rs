@@ -272,10 +272,19 @@ fn build_material(
         Some(MaterialDesc::Dielectric {
             ior,
             alpha,
+            distribution,
             multiscatter,
-        }) => materials::dielectric(check, &field, *ior, *alpha, *multiscatter)?,
+        }) => {
+            let rough = materials::Rough {
+                alpha: *alpha,
+                distribution: *distribution,
+                multiscatter: *multiscatter,
+            };
+            materials::dielectric(check, &field, *ior, rough)?
+        }
         Some(MaterialDesc::Conductor {
             alpha,
+            distribution,
             eta,
             k,
             f0,
@@ -284,6 +293,7 @@ fn build_material(
             let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
             let rough = materials::Rough {
                 alpha: *alpha,
+                distribution: *distribution,
                 multiscatter: *multiscatter,
             };
             materials::conductor(check, &field, rough, *eta, *k, f0)?

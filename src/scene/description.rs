@@ -554,18 +554,24 @@ pub enum MaterialDesc {
         /// Index of refraction inside the shape.
         #[serde(default = "default_ior")]
         ior: f32,
-        /// GGX α (0 = smooth).
+        /// Microfacet α (0 = smooth).
         #[serde(default)]
         alpha: f32,
+        /// Microfacet distribution of a rough surface: `ggx` (default) or `beckmann`.
+        #[serde(default)]
+        distribution: MicrofacetDesc,
         /// Energy compensation of a rough surface (false: single scattering only).
         #[serde(default = "default_true")]
         multiscatter: bool,
     },
     /// Metal: smooth (alpha = 0) or GGX-rough, with a complex index or a Schlick F0.
     Conductor {
-        /// GGX α (0 = smooth).
+        /// Microfacet α (0 = smooth).
         #[serde(default)]
         alpha: f32,
+        /// Microfacet distribution of a rough surface: `ggx` (default) or `beckmann`.
+        #[serde(default)]
+        distribution: MicrofacetDesc,
         /// Real part of the complex index of refraction, per channel.
         #[serde(default)]
         eta: Option<Color>,
@@ -579,6 +585,23 @@ pub enum MaterialDesc {
         #[serde(default = "default_true")]
         multiscatter: bool,
     },
+}
+
+/// `distribution` of a rough dielectric or conductor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MicrofacetDesc {
+    /// GGX (Trowbridge–Reitz), with energy compensation available.
+    #[default]
+    Ggx,
+    /// Beckmann (Mitsuba 3's default), single scattering only.
+    Beckmann,
+}
+
+impl<'de> Deserialize<'de> for MicrofacetDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<MicrofacetDesc, D::Error> {
+        let i = super::messages::one_of(d, &["ggx", "beckmann"])?;
+        Ok([MicrofacetDesc::Ggx, MicrofacetDesc::Beckmann][i])
+    }
 }
 
 fn default_ior() -> f32 {

@@ -1,13 +1,13 @@
 //! Building the microfacet and dielectric materials of `material = { ... }`.
 
-use super::description::Color;
+use super::description::{Color, MicrofacetDesc};
 use super::validate::Check;
 use crate::error::Result;
 use crate::material::albedo::ETA_MAX;
-use crate::material::{ConductorFresnel, Material, MIN_ALPHA};
+use crate::material::{ConductorFresnel, Distribution, Material, MIN_ALPHA};
 use crate::math::color::Rgb;
 
-/// A GGX α: 0 for a smooth surface, else in [MIN_ALPHA, 1].
+/// A microfacet α: 0 for a smooth surface, else in [MIN_ALPHA, 1].
 fn alpha(check: &Check, field: &str, a: f32) -> Result<f32> {
     let a = check.finite(field, a)?;
     if a == 0.0 || (MIN_ALPHA..=1.0).contains(&a) {
@@ -23,22 +23,35 @@ fn alpha(check: &Check, field: &str, a: f32) -> Result<f32> {
 /// The roughness keys shared by rough materials.
 #[derive(Clone, Copy)]
 pub(super) struct Rough {
-    /// GGX α as written.
+    /// Microfacet α as written.
     pub alpha: f32,
+    /// `distribution` as written (default GGX).
+    pub distribution: MicrofacetDesc,
     /// `multiscatter` as written (default true).
     pub multiscatter: bool,
 }
 
-/// `{ type = "dielectric", ior, alpha, multiscatter }`.
-pub(super) fn dielectric(
-    check: &Check,
-    field: &str,
-    ior: f32,
-    a: f32,
-    multiscatter: bool,
-) -> Result<Material> {
+impl Rough {
+    /// The distribution, refusing energy compensation where brume has no
+    /// albedo table for it (Beckmann): the user chooses single scattering.
+    fn distribution(&self, check: &Check, field: &str) -> Result<Distribution> {
+        match self.distribution {
+            MicrofacetDesc::Ggx => Ok(Distribution::Ggx),
+            MicrofacetDesc::Beckmann if self.multiscatter && self.alpha > 0.0 => Err(check.error(
+                &format!("{field}.multiscatter"),
+                "energy compensation is tabulated for GGX only: with `distribution = \"beckmann\"` write `multiscatter = false`",
+            )),
+            MicrofacetDesc::Beckmann => Ok(Distribution::Beckmann),
+        }
+    }
+}
+
+/// `{ type = "dielectric", ior, alpha, distribution, multiscatter }`.
+pub(super) fn dielectric(check: &Check, field: &str, ior: f32, rough: Rough) -> Result<Material> {
     let ior = check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?;
-    let alpha = alpha(check, &format!("{field}.alpha"), a)?;
+    let alpha = alpha(check, &format!("{field}.alpha"), rough.alpha)?;
+    let distribution = rough.distribution(check, field)?;
+    let multiscatter = rough.multiscatter && distribution == Distribution::Ggx;
     // The compensation's albedo tables cover index ratios 1/ETA_MAX..ETA_MAX.
     let tabulated = (1.0 / ETA_MAX..=ETA_MAX).contains(&ior);
     if multiscatter && alpha > 0.0 && !tabulated {
@@ -52,11 +65,12 @@ pub(super) fn dielectric(
     Ok(Material::Dielectric {
         ior,
         alpha,
+        distribution,
         multiscatter,
     })
 }
 
-/// `{ type = "conductor", alpha, eta + k | f0, multiscatter }`.
+/// `{ type = "conductor", alpha, distribution, eta + k | f0, multiscatter }`.
 pub(super) fn conductor(
     check: &Check,
     field: &str,
@@ -94,10 +108,12 @@ pub(super) fn conductor(
             ))
         }
     };
+    let distribution = rough.distribution(check, field)?;
     Ok(Material::Conductor {
         alpha: alpha(check, &f("alpha"), rough.alpha)?,
         fresnel,
-        multiscatter: rough.multiscatter,
+        distribution,
+        multiscatter: rough.multiscatter && distribution == Distribution::Ggx,
     })
 }
 

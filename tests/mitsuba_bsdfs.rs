@@ -1,0 +1,14 @@
+//! The Mitsuba BSDFs, shapes and emitters that map to brume features added
+//! for them (Beckmann roughness, ...): each imported scene renders bit for
+//! bit like its hand-written TOML twin, so the TOML keys are first-class.
+
+mod twin_support;
+
+use twin_support::assert_twins;
+
+/// A `roughconductor` naming no distribution (Mitsuba's default Beckmann)
+/// and a Beckmann `roughdielectric` given `alpha_u` = `alpha_v`.
+#[test]
+fn beckmann_rough_bsdfs_render_like_their_toml_twin() {
+    assert_twins("rough_beckmann");
+}
