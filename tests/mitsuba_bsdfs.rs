@@ -12,3 +12,10 @@ use twin_support::assert_twins;
 fn beckmann_rough_bsdfs_render_like_their_toml_twin() {
     assert_twins("rough_beckmann");
 }
+
+/// `plastic` (nonlinear, tinted specular; and all defaults but ext_ior) and
+/// a `thindielectric` rectangle.
+#[test]
+fn plastic_and_thin_dielectric_render_like_their_toml_twin() {
+    assert_twins("plastic_pane");
+}

@@ -47,7 +47,7 @@ impl Material {
     }
 
     /// Probability that sampling at a delta surface from `wo` picks the lobe
-    /// that leads to `wi` (1 for mirrors, F or 1 − F for a smooth dielectric);
+    /// that leads to `wi` (1 for mirrors, F or 1 − F for a smooth dielectric, R' or 1 − R' for a thin sheet);
     /// 0 for BSDFs that are not delta.
     pub fn delta_pdf(&self, sp: &Shading, wo: Vec3, wi: Vec3) -> f32 {
         if !self.is_delta() {
@@ -60,6 +60,14 @@ impl Material {
                     f
                 } else {
                     1.0 - f
+                }
+            }
+            Material::ThinDielectric { ior } => {
+                let r = super::layered::thin_reflectance(sp.n.dot(wo), ior);
+                if sp.n.dot(wi) >= 0.0 {
+                    r
+                } else {
+                    1.0 - r
                 }
             }
             _ => 1.0,

@@ -1,5 +1,6 @@
 //! BSDFs: Lambertian, normalized Phong lobe, mirror, smooth and rough
-//! (GGX) dielectrics and conductors.
+//! (GGX or Beckmann) dielectrics and conductors, thin dielectric sheets and
+//! plastic (a diffuse base under a dielectric coating).
 //!
 //! Directions are world-space unit vectors; `wo` points back along the
 //! arriving path (toward the previous vertex), `wi` toward the next one.
@@ -13,6 +14,7 @@ pub mod albedo;
 pub mod albedo_estimate;
 pub mod beckmann;
 pub mod fresnel;
+pub mod layered;
 mod lobe;
 pub mod microfacet;
 pub mod multiscatter;
@@ -21,6 +23,7 @@ mod rough;
 use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
+use layered::Plastic;
 use lobe::Rough;
 pub use microfacet::Distribution;
 use std::f32::consts::{FRAC_1_PI, PI};
@@ -117,6 +120,14 @@ pub enum Material {
         /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]; GGX only).
         multiscatter: bool,
     },
+    /// A thin dielectric sheet (window pane, soap film): reflects with the
+    /// summed reflectance of its two faces, transmits straight through ([`layered`]).
+    ThinDielectric {
+        /// Index of refraction of the sheet (the outside has index 1).
+        ior: f32,
+    },
+    /// A Lambertian base under a smooth dielectric coating (Mitsuba's `plastic`, [`layered`]).
+    Plastic(Plastic),
 }
 
 /// A direction sampled from a BSDF.
@@ -156,12 +167,13 @@ impl Material {
             Material::Dielectric { alpha, .. } | Material::Conductor { alpha, .. } => {
                 alpha < MIN_ALPHA
             }
-            Material::Diffuse { .. } | Material::Phong { .. } => false,
+            Material::ThinDielectric { .. } => true,
+            Material::Diffuse { .. } | Material::Phong { .. } | Material::Plastic(_) => false,
         }
     }
 
     /// The same material with its colour parameter (diffuse and Phong albedo,
-    /// mirror reflectance, Schlick F0) set to `color`; others are returned as they are.
+    /// mirror reflectance, Schlick F0, plastic base) set to `color`; others are returned as they are.
     #[inline]
     pub fn with_color(self, color: Rgb) -> Material {
         match self {
@@ -171,6 +183,10 @@ impl Material {
                 exponent,
             },
             Material::Mirror { .. } => Material::Mirror { reflectance: color },
+            Material::Plastic(p) => Material::Plastic(Plastic {
+                diffuse: color,
+                ..p
+            }),
             Material::Conductor {
                 alpha,
                 fresnel: ConductorFresnel::Schlick { .. },
@@ -209,6 +225,7 @@ impl Material {
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
                 self.rough().conductor_eval(&fresnel, lo, li)
             }
+            Material::Plastic(p) => p.eval(sp, wo, wi),
             _ => Rgb::BLACK,
         }
     }
@@ -236,6 +253,7 @@ impl Material {
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
                 self.rough().conductor_pdf(lo, li)
             }
+            Material::Plastic(p) => p.pdf(sp, wo, wi),
             _ => 0.0,
         }
     }
@@ -278,6 +296,8 @@ impl Material {
             Material::Dielectric { .. } | Material::Conductor { .. } => {
                 self.sample_rough(sp, wo, u, u_lobe)
             }
+            Material::ThinDielectric { ior } => Some(layered::sample_thin(ior, sp, wo, u_lobe)),
+            Material::Plastic(p) => p.sample(sp, wo, u, u_lobe),
         }
     }
 

@@ -70,6 +70,7 @@ pub(super) fn build_shapes(
         }
         let (material, texture) =
             build_material(shape.material.as_ref(), &field, check, base, &mut images)?;
+        super::materials::path_tracer_only(&material, &desc.integrator.kind, &field, check)?;
         shape_materials.push(material);
         shape_textures.push(texture);
         emissions.push(build_emission(shape, &field, check, base, &mut images)?);
@@ -297,6 +298,18 @@ fn build_material(
                 multiscatter: *multiscatter,
             };
             materials::conductor(check, &field, rough, *eta, *k, f0)?
+        }
+        Some(MaterialDesc::ThinDielectric { ior }) => {
+            materials::thin_dielectric(check, &field, *ior)?
+        }
+        Some(MaterialDesc::Plastic {
+            diffuse,
+            specular,
+            ior,
+            nonlinear,
+        }) => {
+            let diffuse = color("diffuse", diffuse)?;
+            materials::plastic(check, &field, diffuse, *specular, *ior, *nonlinear)?
         }
     };
     Ok((material, texture))

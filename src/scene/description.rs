@@ -585,6 +585,35 @@ pub enum MaterialDesc {
         #[serde(default = "default_true")]
         multiscatter: bool,
     },
+    /// A thin dielectric sheet: reflects both faces' light, transmits unbent.
+    ThinDielectric {
+        /// Index of refraction of the sheet.
+        #[serde(default = "default_ior")]
+        ior: f32,
+    },
+    /// A diffuse base under a smooth dielectric coating (Mitsuba's `plastic`).
+    Plastic {
+        /// Albedo of the base, in [0, 1].
+        #[serde(default = "default_plastic_diffuse")]
+        diffuse: ColorOrTexture,
+        /// Factor on the coating's specular reflection, in [0, 1].
+        #[serde(default = "default_plastic_specular")]
+        specular: Color,
+        /// Index of refraction of the coating.
+        #[serde(default = "default_ior")]
+        ior: f32,
+        /// Sum the base's internal reflections as ρ / (1 − F_dr ρ) (true) or ρ / (1 − F_dr).
+        #[serde(default)]
+        nonlinear: bool,
+    },
+}
+
+fn default_plastic_diffuse() -> ColorOrTexture {
+    ColorOrTexture::Color(Color([0.5; 3]))
+}
+
+fn default_plastic_specular() -> Color {
+    Color([1.0; 3])
 }
 
 /// `distribution` of a rough dielectric or conductor.

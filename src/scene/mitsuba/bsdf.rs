@@ -1,5 +1,5 @@
-//! `<bsdf>`: diffuse, null, dielectric, roughdielectric, conductor,
-//! roughconductor, twosided; the rest is refused by name.
+//! `<bsdf>`: diffuse, null, dielectric, thindielectric, roughdielectric,
+//! conductor, roughconductor, plastic, twosided; the rest is refused by name.
 
 use super::mechanics::Node;
 use super::values::{ColorParam, Obj, Props};
@@ -80,6 +80,20 @@ pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
             transmissive: true,
         },
         "conductor" | "roughconductor" => opaque(conductor(&p, kind == "roughconductor")?),
+        "thindielectric" => Surface {
+            material: Some(MaterialDesc::ThinDielectric {
+                ior: relative_ior(&p)?,
+            }),
+            one_sided: false,
+            transmissive: true,
+        },
+        "plastic" => opaque(plastic(ctx, &p)?),
+        "roughplastic" => {
+            return Err(unsupported(
+                node,
+                "roughplastic (its rough coating's transmittance tables are not in brume yet; `plastic` is)",
+            ))
+        }
         _ => return Err(unsupported(node, "this BSDF")),
     };
     p.finish()?;
@@ -158,11 +172,37 @@ fn roughness(p: &Props) -> Result<(f32, MicrofacetDesc)> {
     Ok((alpha as f32, distribution))
 }
 
-/// `dielectric` / `roughdielectric`: brume's outside index is 1, so the
-/// relative index int_ior / ext_ior is what it takes.
-fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
+/// int_ior / ext_ior with Mitsuba's defaults (bk7 in air): brume's outside
+/// index is 1, so the relative index is what it takes.
+fn relative_ior(p: &Props) -> Result<f32> {
     let int = ior(p, "int_ior", 1.5046)?;
     let ext = ior(p, "ext_ior", 1.000277)?;
+    Ok((int / ext) as f32)
+}
+
+/// `plastic`: diffuse_reflectance (0.5, or a texture), specular_reflectance
+/// (1), int_ior (polypropylene) over ext_ior (air), `nonlinear` (false).
+fn plastic(ctx: &Ctx, p: &Props) -> Result<MaterialDesc> {
+    let int = ior(p, "int_ior", 1.49)?;
+    let ext = ior(p, "ext_ior", 1.000277)?;
+    let specular = match p.color("specular_reflectance")? {
+        None => Color([1.0; 3]),
+        Some(ColorParam::Rgb(c)) => Color(c.map(|v| v as f32)),
+        Some(ColorParam::Texture(t)) => {
+            return Err(unsupported(t.at, "a textured specular_reflectance"))
+        }
+    };
+    Ok(MaterialDesc::Plastic {
+        diffuse: color(ctx, p, "diffuse_reflectance", 0.5)?,
+        specular,
+        ior: (int / ext) as f32,
+        nonlinear: p.bool("nonlinear")?.unwrap_or(false),
+    })
+}
+
+/// `dielectric` / `roughdielectric`, with the relative index of [`relative_ior`].
+fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
+    let ior = relative_ior(p)?;
     for key in ["specular_reflectance", "specular_transmittance"] {
         if let Some(c) = p.color(key)? {
             if !matches!(c, ColorParam::Rgb([1.0, 1.0, 1.0])) {
@@ -179,7 +219,7 @@ fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
         (0.0, MicrofacetDesc::Ggx)
     };
     Ok(MaterialDesc::Dielectric {
-        ior: (int / ext) as f32,
+        ior,
         alpha,
         distribution,
         multiscatter: MITSUBA_MULTISCATTER,
