@@ -19,3 +19,10 @@ fn beckmann_rough_bsdfs_render_like_their_toml_twin() {
 fn plastic_and_thin_dielectric_render_like_their_toml_twin() {
     assert_twins("plastic_pane");
 }
+
+/// A `spot` whose `beam_width` is inside its `cutoff_angle`: Mitsuba's edge,
+/// linear in angle, is brume's `cone_edge = "linear"`.
+#[test]
+fn soft_spot_renders_like_its_toml_twin() {
+    assert_twins("soft_spot");
+}

@@ -65,10 +65,10 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "heterogeneous",
     );
     refuses(
-        r#"<emitter type="spot"/>"#,
+        r#"<emitter type="spot"><float name="beam_width" value="40"/></emitter>"#,
         3,
-        r#"<emitter type="spot">"#,
-        "beam_width",
+        r#"<float name="beam_width">"#,
+        "must lie between 0 and cutoff_angle",
     );
     refuses(
         r#"<shape type="sphere"><bsdf type="roughconductor"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.3"/></bsdf></shape>"#,

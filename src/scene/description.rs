@@ -435,6 +435,9 @@ pub enum LightDesc {
         /// Width of the soft edge in degrees (inside the cone; default 5, or the whole cone if narrower).
         #[serde(default)]
         cone_falloff: Option<f32>,
+        /// Shape of the edge: `smooth` (smoothstep in cosine, default) or `linear` (in angle, Mitsuba's).
+        #[serde(default)]
+        cone_edge: SpotEdgeDesc,
     },
     /// The sun: a distant disk.
     Sun {
@@ -614,6 +617,23 @@ fn default_plastic_diffuse() -> ColorOrTexture {
 
 fn default_plastic_specular() -> Color {
     Color([1.0; 3])
+}
+
+/// `cone_edge` of a spot light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SpotEdgeDesc {
+    /// A smoothstep in the cosine.
+    #[default]
+    Smooth,
+    /// Linear in the angle from the axis (Mitsuba 3's spot).
+    Linear,
+}
+
+impl<'de> Deserialize<'de> for SpotEdgeDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<SpotEdgeDesc, D::Error> {
+        let i = super::messages::one_of(d, &["smooth", "linear"])?;
+        Ok([SpotEdgeDesc::Smooth, SpotEdgeDesc::Linear][i])
+    }
 }
 
 /// `distribution` of a rough dielectric or conductor.
