@@ -260,57 +260,7 @@ fn build_material(
         None => Material::Diffuse {
             albedo: Rgb::splat(0.5),
         },
-        Some(MaterialDesc::Diffuse { albedo }) => Material::Diffuse {
-            albedo: color("albedo", albedo)?,
-        },
-        Some(MaterialDesc::Phong { albedo, exponent }) => Material::Phong {
-            albedo: color("albedo", albedo)?,
-            exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
-        },
-        Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
-            reflectance: color("reflectance", reflectance)?,
-        },
-        Some(MaterialDesc::Dielectric {
-            ior,
-            alpha,
-            distribution,
-            multiscatter,
-        }) => {
-            let rough = materials::Rough {
-                alpha: *alpha,
-                distribution: *distribution,
-                multiscatter: *multiscatter,
-            };
-            materials::dielectric(check, &field, *ior, rough)?
-        }
-        Some(MaterialDesc::Conductor {
-            alpha,
-            distribution,
-            eta,
-            k,
-            f0,
-            multiscatter,
-        }) => {
-            let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
-            let rough = materials::Rough {
-                alpha: *alpha,
-                distribution: *distribution,
-                multiscatter: *multiscatter,
-            };
-            materials::conductor(check, &field, rough, *eta, *k, f0)?
-        }
-        Some(MaterialDesc::ThinDielectric { ior }) => {
-            materials::thin_dielectric(check, &field, *ior)?
-        }
-        Some(MaterialDesc::Plastic {
-            diffuse,
-            specular,
-            ior,
-            nonlinear,
-        }) => {
-            let diffuse = color("diffuse", diffuse)?;
-            materials::plastic(check, &field, diffuse, *specular, *ior, *nonlinear)?
-        }
+        Some(desc) => materials::material(desc, check, &field, &mut color)?,
     };
     Ok((material, texture))
 }

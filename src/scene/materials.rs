@@ -1,6 +1,6 @@
 //! Building the microfacet and dielectric materials of `material = { ... }`.
 
-use super::description::{Color, MicrofacetDesc};
+use super::description::{Color, ColorOrTexture, MaterialDesc, MicrofacetDesc};
 use super::validate::Check;
 use crate::error::Result;
 use crate::material::albedo::ETA_MAX;
@@ -115,6 +115,67 @@ pub(super) fn conductor(
         fresnel,
         distribution,
         multiscatter: rough.multiscatter && distribution == Distribution::Ggx,
+    })
+}
+
+/// The material of `material = { ... }`, with `color` reading a colour
+/// parameter (a constant, or a texture it keeps aside).
+pub(super) fn material(
+    desc: &MaterialDesc,
+    check: &Check,
+    field: &str,
+    color: &mut dyn FnMut(&str, &ColorOrTexture) -> Result<Rgb>,
+) -> Result<Material> {
+    Ok(match desc {
+        MaterialDesc::Diffuse { albedo } => Material::Diffuse {
+            albedo: color("albedo", albedo)?,
+        },
+        MaterialDesc::Phong { albedo, exponent } => Material::Phong {
+            albedo: color("albedo", albedo)?,
+            exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
+        },
+        MaterialDesc::Mirror { reflectance } => Material::Mirror {
+            reflectance: color("reflectance", reflectance)?,
+        },
+        MaterialDesc::Dielectric {
+            ior,
+            alpha,
+            distribution,
+            multiscatter,
+        } => {
+            let rough = Rough {
+                alpha: *alpha,
+                distribution: *distribution,
+                multiscatter: *multiscatter,
+            };
+            dielectric(check, field, *ior, rough)?
+        }
+        MaterialDesc::Conductor {
+            alpha,
+            distribution,
+            eta,
+            k,
+            f0,
+            multiscatter,
+        } => {
+            let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
+            let rough = Rough {
+                alpha: *alpha,
+                distribution: *distribution,
+                multiscatter: *multiscatter,
+            };
+            conductor(check, field, rough, *eta, *k, f0)?
+        }
+        MaterialDesc::ThinDielectric { ior } => thin_dielectric(check, field, *ior)?,
+        MaterialDesc::Plastic {
+            diffuse,
+            specular,
+            ior,
+            nonlinear,
+        } => {
+            let diffuse = color("diffuse", diffuse)?;
+            plastic(check, field, diffuse, *specular, *ior, *nonlinear)?
+        }
     })
 }
 
