@@ -7,7 +7,7 @@ use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_
 use analytic_support::ggx::ggx_white_albedo;
 use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
-use brume::material::{ConductorFresnel, Material, Shading};
+use brume::material::{ConductorFresnel, Distribution, Material, Shading};
 use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
 use brume::sampling::chi2::{Chi2Result, SphereChi2};
@@ -54,6 +54,7 @@ fn rough_conductor_sampling_follows_its_pdf() {
             let m = Material::Conductor {
                 alpha,
                 fresnel,
+                distribution: Distribution::Ggx,
                 multiscatter: false,
             };
             let r = chi2_of(m, direction(theta), true, (10 * i + j) as u64);
@@ -73,6 +74,7 @@ fn rough_dielectric_sampling_follows_its_pdf_on_both_sides() {
                     let m = Material::Dielectric {
                         ior,
                         alpha,
+                        distribution: Distribution::Ggx,
                         multiscatter: false,
                     };
                     let wo = if front {
@@ -106,6 +108,7 @@ fn white_rough_conductor_reflects_its_single_scattering_albedo() {
             let m = Material::Conductor {
                 alpha: alpha as f32,
                 fresnel: ConductorFresnel::Schlick { f0: Rgb::WHITE },
+                distribution: Distribution::Ggx,
                 multiscatter: false,
             };
             let wo = direction(theta_deg as f32);
@@ -140,6 +143,7 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
         let m = Material::Dielectric {
             ior: 1.5,
             alpha,
+            distribution: Distribution::Ggx,
             multiscatter: false,
         };
         let eta: f32 = if front { 1.5 } else { 1.0 / 1.5 };
@@ -169,6 +173,7 @@ fn rough_dielectric_conserves_energy_and_nearly_smooth_reflects_fresnel() {
     let m = Material::Dielectric {
         ior: 1.5,
         alpha: 0.002,
+        distribution: Distribution::Ggx,
         multiscatter: false,
     };
     for theta in [0.0f32, 45.0, 80.0] {

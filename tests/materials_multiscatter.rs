@@ -14,7 +14,7 @@ use analytic_support::{
 };
 use brume::material::albedo::{self, Side};
 use brume::material::albedo_estimate::{CONDUCTOR_STRATA, DIELECTRIC_STRATA};
-use brume::material::{ConductorFresnel, Material, Shading};
+use brume::material::{ConductorFresnel, Distribution, Material, Shading};
 use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
 use brume::sampling::chi2::SphereChi2;
@@ -32,6 +32,7 @@ fn white_conductor(alpha: f32, multiscatter: bool) -> Material {
     Material::Conductor {
         alpha,
         fresnel: ConductorFresnel::Schlick { f0: Rgb::WHITE },
+        distribution: Distribution::Ggx,
         multiscatter,
     }
 }
@@ -40,6 +41,7 @@ fn glass(alpha: f32, multiscatter: bool) -> Material {
     Material::Dielectric {
         ior: IOR,
         alpha,
+        distribution: Distribution::Ggx,
         multiscatter,
     }
 }
@@ -136,6 +138,7 @@ fn coloured_conductor_compensation_has_the_fresnel_tint() {
             let m = |multiscatter| Material::Conductor {
                 alpha,
                 fresnel,
+                distribution: Distribution::Ggx,
                 multiscatter,
             };
             seed += 2;
@@ -275,6 +278,7 @@ fn compensated_sampling_follows_its_pdf() {
                     eta: Rgb::new(0.2, 0.9, 1.1),
                     k: Rgb::new(3.9, 2.4, 2.2),
                 },
+                distribution: Distribution::Ggx,
                 multiscatter: true,
             },
             85.0,

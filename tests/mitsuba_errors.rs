@@ -41,9 +41,9 @@ fn refuses(body: &str, line: u32, element: &str, words: &str) {
 fn elements_outside_the_subset_are_refused_by_element_and_line() {
     refuses(
         r#"<shape type="sphere">
-        <bsdf type="plastic"/></shape>"#,
+        <bsdf type="roughplastic"/></shape>"#,
         4,
-        r#"<bsdf type="plastic">"#,
+        r#"<bsdf type="roughplastic">"#,
         "not supported",
     );
     refuses(
@@ -65,16 +65,22 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "heterogeneous",
     );
     refuses(
-        r#"<emitter type="spot"/>"#,
+        r#"<emitter type="spot"><float name="beam_width" value="40"/></emitter>"#,
         3,
-        r#"<emitter type="spot">"#,
-        "beam_width",
+        r#"<float name="beam_width">"#,
+        "must lie between 0 and cutoff_angle",
     );
     refuses(
-        r#"<shape type="sphere"><bsdf type="roughconductor"/></shape>"#,
+        r#"<shape type="sphere"><bsdf type="roughconductor"><float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.3"/></bsdf></shape>"#,
         3,
-        r#"<bsdf type="roughconductor">"#,
-        "Beckmann",
+        r#"<float name="alpha_v">"#,
+        "anisotropic",
+    );
+    refuses(
+        r#"<shape type="sphere"><bsdf type="roughdielectric"><string name="distribution" value="phong"/></bsdf></shape>"#,
+        3,
+        r#"<string name="distribution">"#,
+        "beckmann and ggx",
     );
     refuses(
         r#"<shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape>"#,
@@ -211,7 +217,7 @@ fn includes_that_loop_are_refused() {
 #[test]
 fn the_command_line_prints_one_line_and_exits_with_2() {
     let dir = tempfile::tempdir().unwrap();
-    write(&dir, "s.xml", &format!("<scene version=\"3.0.0\">{SENSOR}\n<shape type=\"sphere\"><bsdf type=\"plastic\"/></shape></scene>"));
+    write(&dir, "s.xml", &format!("<scene version=\"3.0.0\">{SENSOR}\n<shape type=\"sphere\"><bsdf type=\"roughplastic\"/></shape></scene>"));
     let out = assert_cmd::Command::cargo_bin("brume")
         .unwrap()
         .current_dir(dir.path())
@@ -222,7 +228,7 @@ fn the_command_line_prints_one_line_and_exits_with_2() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
-        stderr.contains("s.xml:2: <bsdf type=\"plastic\">"),
+        stderr.contains("s.xml:2: <bsdf type=\"roughplastic\">"),
         "{stderr}"
     );
     assert!(!dir.path().join("o.exr").exists());

@@ -50,6 +50,11 @@ fn template(key: &str) -> Option<(String, &'static str, &'static str)> {
             "png",
             "tests/data/textures/checker4x2.png",
         ),
+        "shape[0].material.diffuse.file" => (
+            texture("material = { type = \"plastic\", diffuse = TEX }"),
+            "png",
+            "tests/data/textures/checker4x2.png",
+        ),
         "shape[0].emission.file" => (
             texture("emission = TEX"),
             "png",

@@ -70,7 +70,8 @@ fn reflectance(material: &Material) -> Rgb {
         Material::Diffuse { albedo } | Material::Phong { albedo, .. } => albedo,
         Material::Mirror { reflectance } => reflectance,
         // Clear glass transmits or reflects everything: white, as denoisers expect.
-        Material::Dielectric { .. } => Rgb::WHITE,
+        Material::Dielectric { .. } | Material::ThinDielectric { .. } => Rgb::WHITE,
+        Material::Plastic(p) => p.diffuse,
         Material::Conductor { fresnel, .. } => fresnel.eval(1.0),
     }
 }

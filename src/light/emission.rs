@@ -13,7 +13,7 @@
 //! evenly when two-sided), spot lights uniformly inside their outer cone, so
 //! every density here is closed form and the MIS weights need no estimate.
 
-use super::{spot_falloff, sun_radiance, Environment, Light};
+use super::{sun_radiance, Environment, Light};
 use crate::geometry::{Geometry, Primitive};
 use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
@@ -99,11 +99,12 @@ impl Light {
                 intensity,
                 cos_inner,
                 cos_outer,
+                edge,
             } => {
                 let dir = Frame::from_z(*axis)
                     .to_world(warp::square_to_uniform_cone(u_dir, *cos_outer))
                     .normalize();
-                let falloff = spot_falloff(axis.dot(dir), *cos_inner, *cos_outer);
+                let falloff = edge.falloff(axis.dot(dir), *cos_inner, *cos_outer);
                 (falloff > 0.0).then(|| EmissionSample {
                     p: *position,
                     n: Vec3::ZERO,

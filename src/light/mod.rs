@@ -105,6 +105,8 @@ pub enum Light {
         cos_inner: f32,
         /// Cosine of the cone's half-angle (no light outside).
         cos_outer: f32,
+        /// How the edge falls from 1 to 0 between the two cones.
+        edge: SpotEdge,
     },
     /// An emissive shape: radiance constant or a texture over its surface.
     ///
@@ -225,8 +227,9 @@ impl Light {
                 intensity,
                 cos_inner,
                 cos_outer,
+                edge,
                 ..
-            } => 2.0 * PI * intensity.luminance() * (1.0 - 0.5 * (cos_inner + cos_outer)),
+            } => 2.0 * PI * intensity.luminance() * edge.cone_integral(*cos_inner, *cos_outer),
             Light::Area {
                 radiance,
                 two_sided,
@@ -288,7 +291,14 @@ impl Light {
                 intensity,
                 cos_inner,
                 cos_outer,
-            } => sample_spot(*position, *axis, *intensity, (*cos_inner, *cos_outer), p),
+                edge,
+            } => sample_spot(
+                *position,
+                *axis,
+                *intensity,
+                (*cos_inner, *cos_outer, *edge),
+                p,
+            ),
             Light::Area {
                 moving: true,
                 shape,
@@ -474,6 +484,47 @@ fn sun_radiance(irradiance: Rgb, cos_max: f32) -> Rgb {
     irradiance / (PI * (1.0 - cos_max * cos_max))
 }
 
+/// The shape of a spot light's edge between its inner and outer cones.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SpotEdge {
+    /// A smoothstep in the cosine (brume's default).
+    #[default]
+    Smooth,
+    /// Linear in the angle (Mitsuba 3's `beam_width` to `cutoff_angle`).
+    LinearAngle,
+}
+
+impl SpotEdge {
+    /// Falloff at cosine `cos_angle` from the axis: 1 inside the inner cone, 0 outside the outer.
+    pub fn falloff(self, cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
+        match self {
+            SpotEdge::Smooth => spot_falloff(cos_angle, cos_inner, cos_outer),
+            SpotEdge::LinearAngle if cos_angle >= cos_inner => 1.0,
+            SpotEdge::LinearAngle if cos_angle <= cos_outer => 0.0,
+            SpotEdge::LinearAngle => {
+                let (inner, outer) = (cos_inner.acos(), cos_outer.acos());
+                ((outer - cos_angle.acos()) / (outer - inner)).clamp(0.0, 1.0)
+            }
+        }
+    }
+
+    /// ∫ falloff dω / 2π over the sphere: the spot's power over 2π I.
+    fn cone_integral(self, cos_inner: f32, cos_outer: f32) -> f32 {
+        match self {
+            // The smoothstep integrates to half the band between the cones.
+            SpotEdge::Smooth => 1.0 - 0.5 * (cos_inner + cos_outer),
+            // 1 − cos β + ∫β^γ (γ − θ)/(γ − β) sin θ dθ = 1 − (sin γ − sin β)/(γ − β).
+            SpotEdge::LinearAngle => {
+                let (b, g) = (cos_inner.acos(), cos_outer.acos());
+                if g - b < 1e-6 {
+                    return 1.0 - cos_outer;
+                }
+                1.0 - (g.sin() - b.sin()) / (g - b)
+            }
+        }
+    }
+}
+
 /// Smooth spot falloff: 1 inside the inner cone, 0 outside the outer, smoothstep between.
 fn spot_falloff(cos_angle: f32, cos_inner: f32, cos_outer: f32) -> f32 {
     if cos_angle >= cos_inner {
@@ -508,14 +559,14 @@ fn sample_spot(
     position: Vec3,
     axis: Vec3,
     intensity: Rgb,
-    (cos_inner, cos_outer): (f32, f32),
+    (cos_inner, cos_outer, edge): (f32, f32, SpotEdge),
     p: Vec3,
 ) -> Option<LightSample> {
     let d = position - p;
     let dist2 = d.length_squared();
     let distance = dist2.sqrt();
     let wi = d / distance;
-    let falloff = spot_falloff(axis.dot(-wi), cos_inner, cos_outer);
+    let falloff = edge.falloff(axis.dot(-wi), cos_inner, cos_outer);
     (falloff > 0.0).then(|| LightSample {
         wi,
         distance,

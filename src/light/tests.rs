@@ -153,6 +153,7 @@ fn spot_light_samples_only_inside_its_cone() {
         intensity: Rgb::splat(8.0),
         cos_inner: 0.9,
         cos_outer: 0.8,
+        edge: SpotEdge::Smooth,
     };
     let geometry = Geometry::new(Vec::new());
     let u = Vec2::new(0.5, 0.5);
@@ -323,6 +324,41 @@ fn sky_average_is_its_mean_over_the_sphere() {
     }
 }
 
+/// Mitsuba's spot edge: linear in the angle between beam_width and
+/// cutoff_angle, and its power the falloff integrated over the sphere.
+#[test]
+fn linear_spot_edge_falls_linearly_in_angle_and_its_power_is_its_flux() {
+    let (inner, outer) = (20f32.to_radians(), 30f32.to_radians());
+    let edge = SpotEdge::LinearAngle;
+    for (deg, want) in [
+        (10.0f32, 1.0),
+        (22.5, 0.75),
+        (25.0, 0.5),
+        (29.0, 0.1),
+        (31.0, 0.0),
+    ] {
+        let got = edge.falloff(deg.to_radians().cos(), inner.cos(), outer.cos());
+        assert!((got - want).abs() < 1e-4, "{deg}°: {got} vs {want}");
+    }
+    let spot = Light::Spot {
+        position: Vec3::ZERO,
+        axis: Vec3::new(0.0, -0.6, 0.8),
+        intensity: Rgb::splat(3.0),
+        cos_inner: inner.cos(),
+        cos_outer: outer.cos(),
+        edge,
+    };
+    let axis = Vec3::new(0.0, -0.6, 0.8);
+    let flux = 4.0
+        * std::f64::consts::PI
+        * sphere_mean(|d| 3.0 * edge.falloff(d.dot(axis), inner.cos(), outer.cos()) as f64);
+    assert!(
+        (spot.power(1.0) as f64 - flux).abs() < 1e-3 * flux,
+        "{} vs {flux}",
+        spot.power(1.0)
+    );
+}
+
 /// Point and spot powers are the intensity integrated over the sphere
 /// (the spot's smoothstep edge included); areas and distant lights follow
 /// their formulas.
@@ -334,6 +370,7 @@ fn powers_are_the_emitted_flux() {
         intensity: Rgb::splat(3.0),
         cos_inner: 0.9,
         cos_outer: 0.6,
+        edge: SpotEdge::Smooth,
     };
     let Light::Spot { axis, .. } = spot else {
         unreachable!()
@@ -404,6 +441,7 @@ fn every_light_sample_has_a_positive_density() {
             intensity: Rgb::WHITE,
             cos_inner: 0.9,
             cos_outer: 0.5,
+            edge: SpotEdge::LinearAngle,
         },
         Light::area(0, white(), false, &geometry),
         Light::area(0, white(), true, &geometry),

@@ -47,7 +47,7 @@ impl Material {
     }
 
     /// Probability that sampling at a delta surface from `wo` picks the lobe
-    /// that leads to `wi` (1 for mirrors, F or 1 − F for a smooth dielectric);
+    /// that leads to `wi` (1 for mirrors, F or 1 − F for a smooth dielectric, R' or 1 − R' for a thin sheet);
     /// 0 for BSDFs that are not delta.
     pub fn delta_pdf(&self, sp: &Shading, wo: Vec3, wi: Vec3) -> f32 {
         if !self.is_delta() {
@@ -62,6 +62,14 @@ impl Material {
                     1.0 - f
                 }
             }
+            Material::ThinDielectric { ior } => {
+                let r = super::layered::thin_reflectance(sp.n.dot(wo), ior);
+                if sp.n.dot(wi) >= 0.0 {
+                    r
+                } else {
+                    1.0 - r
+                }
+            }
             _ => 1.0,
         }
     }
@@ -70,7 +78,7 @@ impl Material {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::ConductorFresnel;
+    use crate::material::{ConductorFresnel, Distribution};
     use crate::sampling::Sampler;
 
     /// The adjoint weight of every non-delta BSDF is `eval` of the swapped
@@ -90,6 +98,7 @@ mod tests {
             Material::Dielectric {
                 ior: 1.5,
                 alpha: 0.3,
+                distribution: Distribution::Ggx,
                 multiscatter: false,
             },
             Material::Conductor {
@@ -97,11 +106,13 @@ mod tests {
                 fresnel: ConductorFresnel::Schlick {
                     f0: Rgb::new(0.9, 0.6, 0.3),
                 },
+                distribution: Distribution::Ggx,
                 multiscatter: false,
             },
             Material::Dielectric {
                 ior: 1.5,
                 alpha: 0.6,
+                distribution: Distribution::Ggx,
                 multiscatter: true,
             },
             Material::Conductor {
@@ -109,6 +120,7 @@ mod tests {
                 fresnel: ConductorFresnel::Schlick {
                     f0: Rgb::new(0.9, 0.6, 0.3),
                 },
+                distribution: Distribution::Ggx,
                 multiscatter: true,
             },
         ];
@@ -147,6 +159,7 @@ mod tests {
         let glass = Material::Dielectric {
             ior: 1.5,
             alpha: 0.0,
+            distribution: Distribution::Ggx,
             multiscatter: false,
         };
         let n = Vec3::Y;

@@ -3,7 +3,7 @@
 //! that checks the committed file is what it writes).
 
 use super::albedo::{self, Side, ALPHA_NODES, ETA_NODES, MU_NODES, TABLE_LEN};
-use super::{ConductorFresnel, Material, Shading};
+use super::{ConductorFresnel, Distribution, Material, Shading};
 use crate::math::color::Rgb;
 use crate::math::{Vec2, Vec3};
 use crate::sampling::Sampler;
@@ -57,6 +57,7 @@ pub fn entry(index: usize) -> f32 {
         let m = Material::Conductor {
             alpha,
             fresnel: ConductorFresnel::Schlick { f0: Rgb::WHITE },
+            distribution: Distribution::Ggx,
             multiscatter: false,
         };
         return albedo(m, true, mu, CONDUCTOR_STRATA, index as u64) as f32;
@@ -71,6 +72,7 @@ pub fn entry(index: usize) -> f32 {
     let m = Material::Dielectric {
         ior: eta,
         alpha,
+        distribution: Distribution::Ggx,
         multiscatter: false,
     };
     let front = side == Side::Enter as usize;

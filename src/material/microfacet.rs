@@ -1,12 +1,67 @@
-//! The isotropic GGX (Trowbridge–Reitz) microfacet distribution with
-//! height-correlated Smith masking and visible-normal sampling (Heitz 2018,
-//! "Sampling the GGX Distribution of Visible Normals").
+//! Isotropic microfacet distributions with height-correlated Smith masking:
+//! GGX (Trowbridge–Reitz) with visible-normal sampling (Heitz 2018,
+//! "Sampling the GGX Distribution of Visible Normals") and Beckmann
+//! (`beckmann.rs`, Walter et al. 2007) sampled by D(m) cos θm.
 //!
 //! Everything here is in the local shading frame: the macro normal is +z and
 //! `wo` has z > 0.
 
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::PI;
+
+pub use super::beckmann::Beckmann;
+
+/// Which microfacet distribution a rough lobe uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Distribution {
+    /// GGX (Trowbridge–Reitz): brume's default, with energy compensation tables.
+    #[default]
+    Ggx,
+    /// Beckmann (Gaussian slopes): Mitsuba 3's default; single scattering only.
+    Beckmann,
+}
+
+/// What the rough lobes (`rough.rs`) need of a microfacet distribution.
+pub trait Microfacet: Copy {
+    /// Microfacet normal density D(m), normalized so that ∫ D(m) cos θm dm = 1.
+    fn d(&self, m: Vec3) -> f32;
+    /// Smith's Λ(w): masking is G1 = 1 / (1 + Λ).
+    fn lambda(&self, w: Vec3) -> f32;
+    /// Masking of one direction.
+    fn g1(&self, w: Vec3) -> f32 {
+        1.0 / (1.0 + self.lambda(w))
+    }
+    /// Height-correlated masking–shadowing of a pair of directions.
+    fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
+        1.0 / (1.0 + self.lambda(wo) + self.lambda(wi))
+    }
+    /// Density (solid angle of m) with which `sample_normal` draws `m` seen from `wo`.
+    fn normal_pdf(&self, wo: Vec3, m: Vec3) -> f32;
+    /// Draws a microfacet normal for `wo` from `u` ∈ [0,1)².
+    fn sample_normal(&self, wo: Vec3, u: Vec2) -> Vec3;
+    /// `D G2 (wo·m) / (cos θo normal_pdf)`: the weight f cos / pdf of a
+    /// direction through `m` once the Fresnel and η factors are taken out.
+    fn sample_weight(&self, wo: Vec3, wi: Vec3, m: Vec3) -> f32;
+}
+
+impl Microfacet for Ggx {
+    fn d(&self, m: Vec3) -> f32 {
+        Ggx::d(self, m)
+    }
+    fn lambda(&self, w: Vec3) -> f32 {
+        Ggx::lambda(self, w)
+    }
+    fn normal_pdf(&self, wo: Vec3, m: Vec3) -> f32 {
+        self.visible_pdf(wo, m)
+    }
+    fn sample_normal(&self, wo: Vec3, u: Vec2) -> Vec3 {
+        self.sample_visible(wo, u)
+    }
+    fn sample_weight(&self, wo: Vec3, wi: Vec3, _m: Vec3) -> f32 {
+        // With visible normals everything but G2 / G1 cancels.
+        Ggx::g2(self, wo, wi) / Ggx::g1(self, wo)
+    }
+}
 
 /// GGX with slope width α.
 #[derive(Clone, Copy, Debug, PartialEq)]

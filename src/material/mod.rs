@@ -1,5 +1,6 @@
 //! BSDFs: Lambertian, normalized Phong lobe, mirror, smooth and rough
-//! (GGX) dielectrics and conductors.
+//! (GGX or Beckmann) dielectrics and conductors, thin dielectric sheets and
+//! plastic (a diffuse base under a dielectric coating).
 //!
 //! Directions are world-space unit vectors; `wo` points back along the
 //! arriving path (toward the previous vertex), `wi` toward the next one.
@@ -11,7 +12,10 @@ pub mod texture;
 
 pub mod albedo;
 pub mod albedo_estimate;
+pub mod beckmann;
 pub mod fresnel;
+pub mod layered;
+mod lobe;
 pub mod microfacet;
 pub mod multiscatter;
 mod rough;
@@ -19,7 +23,9 @@ mod rough;
 use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::warp;
-use microfacet::Ggx;
+use layered::Plastic;
+use lobe::Rough;
+pub use microfacet::Distribution;
 use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Smallest GGX α of a rough lobe; below it the lobe is treated as smooth.
@@ -96,20 +102,32 @@ pub enum Material {
     Dielectric {
         /// Index of refraction of the inside (the normal points outside, index 1).
         ior: f32,
-        /// GGX α of the surface; 0 is a smooth (delta) interface.
+        /// Microfacet α of the surface; 0 is a smooth (delta) interface.
         alpha: f32,
-        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]).
+        /// The microfacet distribution of a rough surface.
+        distribution: Distribution,
+        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]; GGX only).
         multiscatter: bool,
     },
     /// A metal: Fresnel-weighted reflection off a smooth or GGX-rough surface.
     Conductor {
-        /// GGX α of the surface; 0 is a smooth (delta) mirror.
+        /// Microfacet α of the surface; 0 is a smooth (delta) mirror.
         alpha: f32,
         /// Reflectance model.
         fresnel: ConductorFresnel,
-        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]).
+        /// The microfacet distribution of a rough surface.
+        distribution: Distribution,
+        /// Kulla–Conty energy compensation of a rough surface ([`multiscatter`]; GGX only).
         multiscatter: bool,
     },
+    /// A thin dielectric sheet (window pane, soap film): reflects with the
+    /// summed reflectance of its two faces, transmits straight through ([`layered`]).
+    ThinDielectric {
+        /// Index of refraction of the sheet (the outside has index 1).
+        ior: f32,
+    },
+    /// A Lambertian base under a smooth dielectric coating (Mitsuba's `plastic`, [`layered`]).
+    Plastic(Plastic),
 }
 
 /// A direction sampled from a BSDF.
@@ -149,12 +167,13 @@ impl Material {
             Material::Dielectric { alpha, .. } | Material::Conductor { alpha, .. } => {
                 alpha < MIN_ALPHA
             }
-            Material::Diffuse { .. } | Material::Phong { .. } => false,
+            Material::ThinDielectric { .. } => true,
+            Material::Diffuse { .. } | Material::Phong { .. } | Material::Plastic(_) => false,
         }
     }
 
     /// The same material with its colour parameter (diffuse and Phong albedo,
-    /// mirror reflectance, Schlick F0) set to `color`; others are returned as they are.
+    /// mirror reflectance, Schlick F0, plastic base) set to `color`; others are returned as they are.
     #[inline]
     pub fn with_color(self, color: Rgb) -> Material {
         match self {
@@ -164,13 +183,19 @@ impl Material {
                 exponent,
             },
             Material::Mirror { .. } => Material::Mirror { reflectance: color },
+            Material::Plastic(p) => Material::Plastic(Plastic {
+                diffuse: color,
+                ..p
+            }),
             Material::Conductor {
                 alpha,
                 fresnel: ConductorFresnel::Schlick { .. },
+                distribution,
                 multiscatter,
             } => Material::Conductor {
                 alpha,
                 fresnel: ConductorFresnel::Schlick { f0: color },
+                distribution,
                 multiscatter,
             },
             other => other,
@@ -190,33 +215,17 @@ impl Material {
                 let cos_alpha = reflect(wo, n).dot(wi).max(0.0);
                 albedo * ((exponent + 2.0) / (2.0 * PI) * cos_alpha.powf(exponent) * cos_i)
             }
-            Material::Dielectric {
-                ior,
-                alpha,
-                multiscatter,
-            } => {
+            Material::Dielectric { ior, .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
-                if multiscatter {
-                    multiscatter::dielectric_eval(ggx, eta, lo, li)
-                } else {
-                    rough::dielectric_eval(ggx, eta, lo, li)
-                }
+                self.rough().dielectric_eval(relative_eta(ior, sp), lo, li)
             }
-            Material::Conductor {
-                alpha,
-                fresnel,
-                multiscatter,
-            } => {
+            Material::Conductor { fresnel, .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                if multiscatter {
-                    multiscatter::conductor_eval(Ggx { alpha }, &fresnel, lo, li)
-                } else {
-                    rough::conductor_eval(Ggx { alpha }, &fresnel, lo, li)
-                }
+                self.rough().conductor_eval(&fresnel, lo, li)
             }
+            Material::Plastic(p) => p.eval(sp, wo, wi),
             _ => Rgb::BLACK,
         }
     }
@@ -234,33 +243,17 @@ impl Material {
                 let cos_alpha = reflect(wo, n).dot(wi).max(0.0);
                 (exponent + 1.0) / (2.0 * PI) * cos_alpha.powf(exponent)
             }
-            Material::Dielectric {
-                ior,
-                alpha,
-                multiscatter,
-            } => {
+            Material::Dielectric { ior, .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
-                if multiscatter {
-                    multiscatter::dielectric_pdf(ggx, eta, lo, li)
-                } else {
-                    rough::dielectric_pdf(ggx, eta, lo, li)
-                }
+                self.rough().dielectric_pdf(relative_eta(ior, sp), lo, li)
             }
-            Material::Conductor {
-                alpha,
-                multiscatter,
-                ..
-            } => {
+            Material::Conductor { .. } => {
                 let frame = Frame::from_z(n);
                 let (lo, li) = (frame.to_local(wo), frame.to_local(wi));
-                if multiscatter {
-                    multiscatter::conductor_pdf(Ggx { alpha }, lo, li)
-                } else {
-                    rough::conductor_pdf(Ggx { alpha }, lo, li)
-                }
+                self.rough().conductor_pdf(lo, li)
             }
+            Material::Plastic(p) => p.pdf(sp, wo, wi),
             _ => 0.0,
         }
     }
@@ -303,42 +296,55 @@ impl Material {
             Material::Dielectric { .. } | Material::Conductor { .. } => {
                 self.sample_rough(sp, wo, u, u_lobe)
             }
+            Material::ThinDielectric { ior } => Some(layered::sample_thin(ior, sp, wo, u_lobe)),
+            Material::Plastic(p) => p.sample(sp, wo, u, u_lobe),
         }
     }
 
     /// [`Material::sample`] of a rough dielectric or conductor: the GGX lobe,
+    /// GGX or Beckmann,
     /// with its energy compensation where `multiscatter` is on.
     fn sample_rough(&self, sp: &Shading, wo: Vec3, u: Vec2, u_lobe: f32) -> Option<BsdfSample> {
         let frame = Frame::from_z(sp.n);
         let lo = frame.to_local(wo);
         let s = match *self {
-            Material::Dielectric {
-                ior,
-                alpha,
-                multiscatter,
-            } => {
-                let (ggx, eta) = (Ggx { alpha }, relative_eta(ior, sp));
-                if multiscatter {
-                    multiscatter::dielectric_sample(ggx, eta, lo, u, u_lobe)
-                } else {
-                    rough::dielectric_sample(ggx, eta, lo, u, u_lobe)
-                }
+            Material::Dielectric { ior, .. } => {
+                self.rough()
+                    .dielectric_sample(relative_eta(ior, sp), lo, u, u_lobe)
             }
-            Material::Conductor {
-                alpha,
-                fresnel,
-                multiscatter,
-            } => {
-                let ggx = Ggx { alpha };
-                if multiscatter {
-                    multiscatter::conductor_sample(ggx, &fresnel, lo, u, u_lobe)
-                } else {
-                    rough::conductor_sample(ggx, &fresnel, lo, u)
-                }
+            Material::Conductor { fresnel, .. } => {
+                self.rough().conductor_sample(&fresnel, lo, u, u_lobe)
             }
             _ => None,
         }?;
         Some(to_world(&frame, s))
+    }
+
+    /// The microfacet model of a dielectric or conductor (a smooth GGX for the others, unused).
+    fn rough(&self) -> Rough {
+        match *self {
+            Material::Dielectric {
+                alpha,
+                distribution,
+                multiscatter,
+                ..
+            }
+            | Material::Conductor {
+                alpha,
+                distribution,
+                multiscatter,
+                ..
+            } => Rough {
+                alpha,
+                distribution,
+                multiscatter,
+            },
+            _ => Rough {
+                alpha: 0.0,
+                distribution: Distribution::Ggx,
+                multiscatter: false,
+            },
+        }
     }
 }
 

@@ -1,9 +1,10 @@
-//! GGX microfacet lobes: rough conductor reflection and rough dielectric
-//! reflection + transmission (Walter et al. 2007), sampled through visible
-//! normals. All functions work in the local frame (`wo.z > 0`).
+//! Microfacet lobes: rough conductor reflection and rough dielectric
+//! reflection + transmission (Walter et al. 2007), generic over the
+//! distribution (GGX sampled through visible normals, Beckmann through
+//! D cos θm). All functions work in the local frame (`wo.z > 0`).
 
 use super::fresnel::{self, refract};
-use super::microfacet::Ggx;
+use super::microfacet::Microfacet;
 use super::ConductorFresnel;
 use crate::math::color::Rgb;
 use crate::math::{Vec2, Vec3};
@@ -20,7 +21,12 @@ fn reflect(wo: Vec3, m: Vec3) -> Vec3 {
 }
 
 /// `f · cos θi` of the rough conductor.
-pub(super) fn conductor_eval(ggx: Ggx, fresnel: &ConductorFresnel, wo: Vec3, wi: Vec3) -> Rgb {
+pub(super) fn conductor_eval<M: Microfacet>(
+    mf: M,
+    fresnel: &ConductorFresnel,
+    wo: Vec3,
+    wi: Vec3,
+) -> Rgb {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return Rgb::BLACK;
     }
@@ -28,11 +34,11 @@ pub(super) fn conductor_eval(ggx: Ggx, fresnel: &ConductorFresnel, wo: Vec3, wi:
         return Rgb::BLACK;
     };
     // f = F D G2 / (4 cosθo cosθi); the cosθi cancels.
-    fresnel.eval(wo.dot(m)) * (ggx.d(m) * ggx.g2(wo, wi) / (4.0 * wo.z))
+    fresnel.eval(wo.dot(m)) * (mf.d(m) * mf.g2(wo, wi) / (4.0 * wo.z))
 }
 
 /// Density of `conductor_sample` producing `wi`.
-pub(super) fn conductor_pdf(ggx: Ggx, wo: Vec3, wi: Vec3) -> f32 {
+pub(super) fn conductor_pdf<M: Microfacet>(mf: M, wo: Vec3, wi: Vec3) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
@@ -40,25 +46,25 @@ pub(super) fn conductor_pdf(ggx: Ggx, wo: Vec3, wi: Vec3) -> f32 {
         return 0.0;
     };
     // dωm/dωi = 1 / (4 |wo·m|) for reflection.
-    ggx.visible_pdf(wo, m) / (4.0 * wo.dot(m))
+    mf.normal_pdf(wo, m) / (4.0 * wo.dot(m))
 }
 
 /// Reflects `wo` about a visible normal.
-pub(super) fn conductor_sample(
-    ggx: Ggx,
+pub(super) fn conductor_sample<M: Microfacet>(
+    mf: M,
     fresnel: &ConductorFresnel,
     wo: Vec3,
     u: Vec2,
 ) -> Option<LocalSample> {
-    let m = ggx.sample_visible(wo, u);
+    let m = mf.sample_normal(wo, u);
     let wi = reflect(wo, m);
     if wi.z <= 0.0 {
         return None;
     }
-    let pdf = ggx.visible_pdf(wo, m) / (4.0 * wo.dot(m));
+    let pdf = mf.normal_pdf(wo, m) / (4.0 * wo.dot(m));
     (pdf > 0.0).then(|| LocalSample {
         wi,
-        weight: fresnel.eval(wo.dot(m)) * (ggx.g2(wo, wi) / ggx.g1(wo)),
+        weight: fresnel.eval(wo.dot(m)) * mf.sample_weight(wo, wi, m),
         pdf,
     })
 }
@@ -79,7 +85,7 @@ fn transmission_normal(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32)> {
 }
 
 /// `f · cos θi` of the rough dielectric, for radiance transport.
-pub(super) fn dielectric_eval(ggx: Ggx, eta: f32, wo: Vec3, wi: Vec3) -> Rgb {
+pub(super) fn dielectric_eval<M: Microfacet>(mf: M, eta: f32, wo: Vec3, wi: Vec3) -> Rgb {
     if wo.z <= 0.0 || wi.z == 0.0 {
         return Rgb::BLACK;
     }
@@ -88,20 +94,20 @@ pub(super) fn dielectric_eval(ggx: Ggx, eta: f32, wo: Vec3, wi: Vec3) -> Rgb {
             return Rgb::BLACK;
         };
         let f = fresnel::dielectric(wo.dot(m), eta);
-        return Rgb::splat(f * ggx.d(m) * ggx.g2(wo, wi) / (4.0 * wo.z));
+        return Rgb::splat(f * mf.d(m) * mf.g2(wo, wi) / (4.0 * wo.z));
     }
     let Some((m, denom)) = transmission_normal(wo, wi, eta) else {
         return Rgb::BLACK;
     };
     let f = fresnel::dielectric(wo.dot(m), eta);
     // Walter's BTDF in radiance form; its |wi·n| cancels against cosθi.
-    let value = (1.0 - f) * ggx.d(m) * ggx.g2(wo, wi) * wi.dot(m).abs() * wo.dot(m)
-        / (wo.z * denom * denom);
+    let value =
+        (1.0 - f) * mf.d(m) * mf.g2(wo, wi) * wi.dot(m).abs() * wo.dot(m) / (wo.z * denom * denom);
     Rgb::splat(value)
 }
 
 /// Density of `dielectric_sample` producing `wi`.
-pub(super) fn dielectric_pdf(ggx: Ggx, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
+pub(super) fn dielectric_pdf<M: Microfacet>(mf: M, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
     if wo.z <= 0.0 || wi.z == 0.0 {
         return 0.0;
     }
@@ -110,32 +116,32 @@ pub(super) fn dielectric_pdf(ggx: Ggx, eta: f32, wo: Vec3, wi: Vec3) -> f32 {
             return 0.0;
         };
         let f = fresnel::dielectric(wo.dot(m), eta);
-        return f * ggx.visible_pdf(wo, m) / (4.0 * wo.dot(m));
+        return f * mf.normal_pdf(wo, m) / (4.0 * wo.dot(m));
     }
     let Some((m, denom)) = transmission_normal(wo, wi, eta) else {
         return 0.0;
     };
     let f = fresnel::dielectric(wo.dot(m), eta);
     // dωm/dωi = η² |wi·m| / (wo·m + η wi·m)².
-    (1.0 - f) * ggx.visible_pdf(wo, m) * eta * eta * wi.dot(m).abs() / (denom * denom)
+    (1.0 - f) * mf.normal_pdf(wo, m) * eta * eta * wi.dot(m).abs() / (denom * denom)
 }
 
 /// Picks reflection (probability F) or refraction through a visible normal.
-pub(super) fn dielectric_sample(
-    ggx: Ggx,
+pub(super) fn dielectric_sample<M: Microfacet>(
+    mf: M,
     eta: f32,
     wo: Vec3,
     u: Vec2,
     u_lobe: f32,
 ) -> Option<LocalSample> {
-    let m = ggx.sample_visible(wo, u);
+    let m = mf.sample_normal(wo, u);
     let cos_om = wo.dot(m);
     if cos_om <= 0.0 {
         return None;
     }
     let f = fresnel::dielectric(cos_om, eta);
-    let vndf = ggx.visible_pdf(wo, m);
-    let g_ratio = |wi: Vec3| ggx.g2(wo, wi) / ggx.g1(wo);
+    let vndf = mf.normal_pdf(wo, m);
+    let g_ratio = |wi: Vec3| mf.sample_weight(wo, wi, m);
     if u_lobe < f {
         let wi = reflect(wo, m);
         if wi.z <= 0.0 {

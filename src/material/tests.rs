@@ -49,7 +49,11 @@ fn sampling_matches_eval_and_pdf() {
             exponent,
         });
     }
-    for multiscatter in [false, true] {
+    for (distribution, multiscatter) in [
+        (Distribution::Ggx, false),
+        (Distribution::Ggx, true),
+        (Distribution::Beckmann, false),
+    ] {
         for alpha in [0.01, 0.1, 0.4, 1.0] {
             check_consistency(Material::Conductor {
                 alpha,
@@ -57,12 +61,14 @@ fn sampling_matches_eval_and_pdf() {
                     eta: Rgb::new(0.2, 0.9, 1.1),
                     k: Rgb::new(3.9, 2.4, 2.2),
                 },
+                distribution,
                 multiscatter,
             });
             for ior in [1.5, 1.1, 2.4] {
                 check_consistency(Material::Dielectric {
                     ior,
                     alpha,
+                    distribution,
                     multiscatter,
                 });
             }

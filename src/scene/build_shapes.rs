@@ -70,6 +70,7 @@ pub(super) fn build_shapes(
         }
         let (material, texture) =
             build_material(shape.material.as_ref(), &field, check, base, &mut images)?;
+        super::materials::path_tracer_only(&material, &desc.integrator.kind, &field, check)?;
         shape_materials.push(material);
         shape_textures.push(texture);
         emissions.push(build_emission(shape, &field, check, base, &mut images)?);
@@ -259,35 +260,7 @@ fn build_material(
         None => Material::Diffuse {
             albedo: Rgb::splat(0.5),
         },
-        Some(MaterialDesc::Diffuse { albedo }) => Material::Diffuse {
-            albedo: color("albedo", albedo)?,
-        },
-        Some(MaterialDesc::Phong { albedo, exponent }) => Material::Phong {
-            albedo: color("albedo", albedo)?,
-            exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
-        },
-        Some(MaterialDesc::Mirror { reflectance }) => Material::Mirror {
-            reflectance: color("reflectance", reflectance)?,
-        },
-        Some(MaterialDesc::Dielectric {
-            ior,
-            alpha,
-            multiscatter,
-        }) => materials::dielectric(check, &field, *ior, *alpha, *multiscatter)?,
-        Some(MaterialDesc::Conductor {
-            alpha,
-            eta,
-            k,
-            f0,
-            multiscatter,
-        }) => {
-            let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
-            let rough = materials::Rough {
-                alpha: *alpha,
-                multiscatter: *multiscatter,
-            };
-            materials::conductor(check, &field, rough, *eta, *k, f0)?
-        }
+        Some(desc) => materials::material(desc, check, &field, &mut color)?,
     };
     Ok((material, texture))
 }

@@ -435,6 +435,9 @@ pub enum LightDesc {
         /// Width of the soft edge in degrees (inside the cone; default 5, or the whole cone if narrower).
         #[serde(default)]
         cone_falloff: Option<f32>,
+        /// Shape of the edge: `smooth` (smoothstep in cosine, default) or `linear` (in angle, Mitsuba's).
+        #[serde(default)]
+        cone_edge: SpotEdgeDesc,
     },
     /// The sun: a distant disk.
     Sun {
@@ -554,18 +557,24 @@ pub enum MaterialDesc {
         /// Index of refraction inside the shape.
         #[serde(default = "default_ior")]
         ior: f32,
-        /// GGX α (0 = smooth).
+        /// Microfacet α (0 = smooth).
         #[serde(default)]
         alpha: f32,
+        /// Microfacet distribution of a rough surface: `ggx` (default) or `beckmann`.
+        #[serde(default)]
+        distribution: MicrofacetDesc,
         /// Energy compensation of a rough surface (false: single scattering only).
         #[serde(default = "default_true")]
         multiscatter: bool,
     },
     /// Metal: smooth (alpha = 0) or GGX-rough, with a complex index or a Schlick F0.
     Conductor {
-        /// GGX α (0 = smooth).
+        /// Microfacet α (0 = smooth).
         #[serde(default)]
         alpha: f32,
+        /// Microfacet distribution of a rough surface: `ggx` (default) or `beckmann`.
+        #[serde(default)]
+        distribution: MicrofacetDesc,
         /// Real part of the complex index of refraction, per channel.
         #[serde(default)]
         eta: Option<Color>,
@@ -579,6 +588,69 @@ pub enum MaterialDesc {
         #[serde(default = "default_true")]
         multiscatter: bool,
     },
+    /// A thin dielectric sheet: reflects both faces' light, transmits unbent.
+    ThinDielectric {
+        /// Index of refraction of the sheet.
+        #[serde(default = "default_ior")]
+        ior: f32,
+    },
+    /// A diffuse base under a smooth dielectric coating (Mitsuba's `plastic`).
+    Plastic {
+        /// Albedo of the base, in [0, 1].
+        #[serde(default = "default_plastic_diffuse")]
+        diffuse: ColorOrTexture,
+        /// Factor on the coating's specular reflection, in [0, 1].
+        #[serde(default = "default_plastic_specular")]
+        specular: Color,
+        /// Index of refraction of the coating.
+        #[serde(default = "default_ior")]
+        ior: f32,
+        /// Sum the base's internal reflections as ρ / (1 − F_dr ρ) (true) or ρ / (1 − F_dr).
+        #[serde(default)]
+        nonlinear: bool,
+    },
+}
+
+fn default_plastic_diffuse() -> ColorOrTexture {
+    ColorOrTexture::Color(Color([0.5; 3]))
+}
+
+fn default_plastic_specular() -> Color {
+    Color([1.0; 3])
+}
+
+/// `cone_edge` of a spot light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SpotEdgeDesc {
+    /// A smoothstep in the cosine.
+    #[default]
+    Smooth,
+    /// Linear in the angle from the axis (Mitsuba 3's spot).
+    Linear,
+}
+
+impl<'de> Deserialize<'de> for SpotEdgeDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<SpotEdgeDesc, D::Error> {
+        let i = super::messages::one_of(d, &["smooth", "linear"])?;
+        Ok([SpotEdgeDesc::Smooth, SpotEdgeDesc::Linear][i])
+    }
+}
+
+/// `distribution` of a rough dielectric or conductor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MicrofacetDesc {
+    /// GGX (Trowbridge–Reitz), with energy compensation available.
+    #[default]
+    Ggx,
+    /// Beckmann (Mitsuba 3's default), single scattering only.
+    Beckmann,
+}
+
+impl<'de> Deserialize<'de> for MicrofacetDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<MicrofacetDesc, D::Error> {
+        let i = super::messages::one_of(d, &["ggx", "beckmann"])?;
+        Ok([MicrofacetDesc::Ggx, MicrofacetDesc::Beckmann][i])
+    }
 }
 
 fn default_ior() -> f32 {

@@ -84,10 +84,11 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Res
             intensity,
             cone_angle,
             cone_falloff,
+            cone_edge,
         } => build_spot(
             (*position, *look_at),
             *intensity,
-            (*cone_angle, *cone_falloff),
+            (*cone_angle, *cone_falloff, *cone_edge),
             field,
             check,
         )?,
@@ -124,11 +125,11 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Res
     })
 }
 
-/// A spot light from its `(position, look_at)` and `(cone_angle, cone_falloff)` keys.
+/// A spot light from its `(position, look_at)` and `(cone_angle, cone_falloff, cone_edge)` keys.
 fn build_spot(
     (position, look_at): ([f32; 3], [f32; 3]),
     intensity: description::Color,
-    (cone_angle, cone_falloff): (f32, Option<f32>),
+    (cone_angle, cone_falloff, edge): (f32, Option<f32>, description::SpotEdgeDesc),
     field: &str,
     check: &Check,
 ) -> Result<Light> {
@@ -149,6 +150,10 @@ fn build_spot(
         intensity: check.color(&f("intensity"), intensity)?,
         cos_inner: (outer - falloff).to_radians().cos(),
         cos_outer: outer.to_radians().cos(),
+        edge: match edge {
+            description::SpotEdgeDesc::Smooth => crate::light::SpotEdge::Smooth,
+            description::SpotEdgeDesc::Linear => crate::light::SpotEdge::LinearAngle,
+        },
     })
 }
 

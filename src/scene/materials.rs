@@ -1,13 +1,14 @@
 //! Building the microfacet and dielectric materials of `material = { ... }`.
 
-use super::description::Color;
+use super::description::{Color, ColorOrTexture, MaterialDesc, MicrofacetDesc};
 use super::validate::Check;
 use crate::error::Result;
 use crate::material::albedo::ETA_MAX;
-use crate::material::{ConductorFresnel, Material, MIN_ALPHA};
+use crate::material::layered::{diffuse_fresnel, Plastic};
+use crate::material::{ConductorFresnel, Distribution, Material, MIN_ALPHA};
 use crate::math::color::Rgb;
 
-/// A GGX α: 0 for a smooth surface, else in [MIN_ALPHA, 1].
+/// A microfacet α: 0 for a smooth surface, else in [MIN_ALPHA, 1].
 fn alpha(check: &Check, field: &str, a: f32) -> Result<f32> {
     let a = check.finite(field, a)?;
     if a == 0.0 || (MIN_ALPHA..=1.0).contains(&a) {
@@ -23,22 +24,35 @@ fn alpha(check: &Check, field: &str, a: f32) -> Result<f32> {
 /// The roughness keys shared by rough materials.
 #[derive(Clone, Copy)]
 pub(super) struct Rough {
-    /// GGX α as written.
+    /// Microfacet α as written.
     pub alpha: f32,
+    /// `distribution` as written (default GGX).
+    pub distribution: MicrofacetDesc,
     /// `multiscatter` as written (default true).
     pub multiscatter: bool,
 }
 
-/// `{ type = "dielectric", ior, alpha, multiscatter }`.
-pub(super) fn dielectric(
-    check: &Check,
-    field: &str,
-    ior: f32,
-    a: f32,
-    multiscatter: bool,
-) -> Result<Material> {
+impl Rough {
+    /// The distribution, refusing energy compensation where brume has no
+    /// albedo table for it (Beckmann): the user chooses single scattering.
+    fn distribution(&self, check: &Check, field: &str) -> Result<Distribution> {
+        match self.distribution {
+            MicrofacetDesc::Ggx => Ok(Distribution::Ggx),
+            MicrofacetDesc::Beckmann if self.multiscatter && self.alpha > 0.0 => Err(check.error(
+                &format!("{field}.multiscatter"),
+                "energy compensation is tabulated for GGX only: with `distribution = \"beckmann\"` write `multiscatter = false`",
+            )),
+            MicrofacetDesc::Beckmann => Ok(Distribution::Beckmann),
+        }
+    }
+}
+
+/// `{ type = "dielectric", ior, alpha, distribution, multiscatter }`.
+pub(super) fn dielectric(check: &Check, field: &str, ior: f32, rough: Rough) -> Result<Material> {
     let ior = check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?;
-    let alpha = alpha(check, &format!("{field}.alpha"), a)?;
+    let alpha = alpha(check, &format!("{field}.alpha"), rough.alpha)?;
+    let distribution = rough.distribution(check, field)?;
+    let multiscatter = rough.multiscatter && distribution == Distribution::Ggx;
     // The compensation's albedo tables cover index ratios 1/ETA_MAX..ETA_MAX.
     let tabulated = (1.0 / ETA_MAX..=ETA_MAX).contains(&ior);
     if multiscatter && alpha > 0.0 && !tabulated {
@@ -52,11 +66,12 @@ pub(super) fn dielectric(
     Ok(Material::Dielectric {
         ior,
         alpha,
+        distribution,
         multiscatter,
     })
 }
 
-/// `{ type = "conductor", alpha, eta + k | f0, multiscatter }`.
+/// `{ type = "conductor", alpha, distribution, eta + k | f0, multiscatter }`.
 pub(super) fn conductor(
     check: &Check,
     field: &str,
@@ -94,11 +109,123 @@ pub(super) fn conductor(
             ))
         }
     };
+    let distribution = rough.distribution(check, field)?;
     Ok(Material::Conductor {
         alpha: alpha(check, &f("alpha"), rough.alpha)?,
         fresnel,
-        multiscatter: rough.multiscatter,
+        distribution,
+        multiscatter: rough.multiscatter && distribution == Distribution::Ggx,
     })
+}
+
+/// The material of `material = { ... }`, with `color` reading a colour
+/// parameter (a constant, or a texture it keeps aside).
+pub(super) fn material(
+    desc: &MaterialDesc,
+    check: &Check,
+    field: &str,
+    color: &mut dyn FnMut(&str, &ColorOrTexture) -> Result<Rgb>,
+) -> Result<Material> {
+    Ok(match desc {
+        MaterialDesc::Diffuse { albedo } => Material::Diffuse {
+            albedo: color("albedo", albedo)?,
+        },
+        MaterialDesc::Phong { albedo, exponent } => Material::Phong {
+            albedo: color("albedo", albedo)?,
+            exponent: check.range(&format!("{field}.exponent"), *exponent, 0.0, 1e6, true)?,
+        },
+        MaterialDesc::Mirror { reflectance } => Material::Mirror {
+            reflectance: color("reflectance", reflectance)?,
+        },
+        MaterialDesc::Dielectric {
+            ior,
+            alpha,
+            distribution,
+            multiscatter,
+        } => {
+            let rough = Rough {
+                alpha: *alpha,
+                distribution: *distribution,
+                multiscatter: *multiscatter,
+            };
+            dielectric(check, field, *ior, rough)?
+        }
+        MaterialDesc::Conductor {
+            alpha,
+            distribution,
+            eta,
+            k,
+            f0,
+            multiscatter,
+        } => {
+            let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
+            let rough = Rough {
+                alpha: *alpha,
+                distribution: *distribution,
+                multiscatter: *multiscatter,
+            };
+            conductor(check, field, rough, *eta, *k, f0)?
+        }
+        MaterialDesc::ThinDielectric { ior } => thin_dielectric(check, field, *ior)?,
+        MaterialDesc::Plastic {
+            diffuse,
+            specular,
+            ior,
+            nonlinear,
+        } => {
+            let diffuse = color("diffuse", diffuse)?;
+            plastic(check, field, diffuse, *specular, *ior, *nonlinear)?
+        }
+    })
+}
+
+/// `{ type = "thin_dielectric", ior }`.
+pub(super) fn thin_dielectric(check: &Check, field: &str, ior: f32) -> Result<Material> {
+    let ior = check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?;
+    Ok(Material::ThinDielectric { ior })
+}
+
+/// `{ type = "plastic", diffuse, specular, ior, nonlinear }`; `diffuse` was
+/// checked (as a reflectance or texture) by the caller.
+pub(super) fn plastic(
+    check: &Check,
+    field: &str,
+    diffuse: Rgb,
+    specular: Color,
+    ior: f32,
+    nonlinear: bool,
+) -> Result<Material> {
+    let ior = check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?;
+    Ok(Material::Plastic(Plastic {
+        diffuse,
+        specular: check.albedo(&format!("{field}.specular"), specular)?,
+        ior,
+        fdr_int: diffuse_fresnel(1.0 / ior),
+        nonlinear,
+    }))
+}
+
+/// Thin sheets and plastic are refused by the other estimators: plastic
+/// mixes a delta lobe with a diffuse one, which bdpt's per-vertex delta flag
+/// cannot express, and neither has been checked against bdpt, mlt or sppm.
+pub(super) fn path_tracer_only(
+    material: &Material,
+    integrator: &str,
+    field: &str,
+    check: &Check,
+) -> Result<()> {
+    let name = match material {
+        Material::ThinDielectric { .. } => "thin_dielectric",
+        Material::Plastic(_) => "plastic",
+        _ => return Ok(()),
+    };
+    if integrator == "path" {
+        return Ok(());
+    }
+    Err(check.error(
+        &format!("{field}.material"),
+        format!("`{name}` is supported by the path tracer only (integrator.type = \"path\"), not by `{integrator}`"),
+    ))
 }
 
 #[cfg(test)]

@@ -1,11 +1,11 @@
-//! `<bsdf>`: diffuse, null, dielectric, roughdielectric, conductor,
-//! roughconductor, twosided; the rest is refused by name.
+//! `<bsdf>`: diffuse, null, dielectric, thindielectric, roughdielectric,
+//! conductor, roughconductor, plastic, twosided; the rest is refused by name.
 
 use super::mechanics::Node;
 use super::values::{ColorParam, Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, TextureDesc};
+use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, MicrofacetDesc, TextureDesc};
 
 /// Mitsuba's named indices of refraction (its `dielectric` table).
 const NAMED_IOR: [(&str, f64); 23] = [
@@ -80,6 +80,20 @@ pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
             transmissive: true,
         },
         "conductor" | "roughconductor" => opaque(conductor(&p, kind == "roughconductor")?),
+        "thindielectric" => Surface {
+            material: Some(MaterialDesc::ThinDielectric {
+                ior: relative_ior(&p)?,
+            }),
+            one_sided: false,
+            transmissive: true,
+        },
+        "plastic" => opaque(plastic(ctx, &p)?),
+        "roughplastic" => {
+            return Err(unsupported(
+                node,
+                "roughplastic (its rough coating's transmittance tables are not in brume yet; `plastic` is)",
+            ))
+        }
         _ => return Err(unsupported(node, "this BSDF")),
     };
     p.finish()?;
@@ -113,37 +127,82 @@ fn ior(p: &Props, key: &str, default: f64) -> Result<f64> {
     Ok(v)
 }
 
-/// GGX α of a rough BSDF: `alpha` (default 0.1), isotropic, `distribution="ggx"`.
-fn roughness(p: &Props) -> Result<f32> {
-    match p.string("distribution")? {
-        Some(("ggx", _)) => {}
-        Some((_, at)) => return Err(unsupported(at, "this microfacet distribution (brume's is GGX)")),
-        None => {
+/// A rough BSDF's microfacet model: `distribution` (Mitsuba's default
+/// `beckmann`, or `ggx`) and `alpha` (default 0.1), or `alpha_u` and
+/// `alpha_v` when they are equal (brume's distributions are isotropic).
+fn roughness(p: &Props) -> Result<(f32, MicrofacetDesc)> {
+    let distribution = match p.string("distribution")? {
+        Some(("ggx", _)) => MicrofacetDesc::Ggx,
+        Some(("beckmann", _)) | None => MicrofacetDesc::Beckmann,
+        Some((_, at)) => {
             return Err(unsupported(
-                p.owner,
-                "Mitsuba's default Beckmann distribution (brume's is GGX): write <string name=\"distribution\" value=\"ggx\"/>",
+                at,
+                "this microfacet distribution (Mitsuba's are beckmann and ggx)",
             ))
         }
-    }
-    if p.node_of("alpha_u").is_some() || p.node_of("alpha_v").is_some() {
-        return Err(unsupported(
-            p.owner,
-            "anisotropic roughness (alpha_u, alpha_v)",
-        ));
-    }
-    if let Some(at) = p.node_of("alpha").filter(|n| n.tag == "texture") {
-        return Err(unsupported(at, "a roughness texture"));
+    };
+    for key in ["alpha", "alpha_u", "alpha_v"] {
+        if let Some(at) = p.node_of(key).filter(|n| n.tag == "texture") {
+            return Err(unsupported(at, "a roughness texture"));
+        }
     }
     p.bool("sample_visible")?; // a sampling choice, not a look
-    let alpha = p.float("alpha")?.unwrap_or(0.1);
-    Ok(alpha as f32)
+    let alpha = match (p.float("alpha_u")?, p.float("alpha_v")?) {
+        (None, None) => p.float("alpha")?.unwrap_or(0.1),
+        (Some(u), Some(v)) if u == v && p.node_of("alpha").is_none() => u,
+        (Some(_), Some(_)) if p.node_of("alpha").is_none() => {
+            return Err(unsupported(
+                p.node_of("alpha_v").unwrap_or(p.owner),
+                "anisotropic roughness (alpha_u different from alpha_v)",
+            ))
+        }
+        _ => {
+            return Err(p
+                .owner
+                .error("give either alpha or both alpha_u and alpha_v"))
+        }
+    };
+    if alpha <= 0.0 {
+        let at = p
+            .node_of("alpha")
+            .or(p.node_of("alpha_u"))
+            .unwrap_or(p.owner);
+        return Err(at.error("must be positive"));
+    }
+    Ok((alpha as f32, distribution))
 }
 
-/// `dielectric` / `roughdielectric`: brume's outside index is 1, so the
-/// relative index int_ior / ext_ior is what it takes.
-fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
+/// int_ior / ext_ior with Mitsuba's defaults (bk7 in air): brume's outside
+/// index is 1, so the relative index is what it takes.
+fn relative_ior(p: &Props) -> Result<f32> {
     let int = ior(p, "int_ior", 1.5046)?;
     let ext = ior(p, "ext_ior", 1.000277)?;
+    Ok((int / ext) as f32)
+}
+
+/// `plastic`: diffuse_reflectance (0.5, or a texture), specular_reflectance
+/// (1), int_ior (polypropylene) over ext_ior (air), `nonlinear` (false).
+fn plastic(ctx: &Ctx, p: &Props) -> Result<MaterialDesc> {
+    let int = ior(p, "int_ior", 1.49)?;
+    let ext = ior(p, "ext_ior", 1.000277)?;
+    let specular = match p.color("specular_reflectance")? {
+        None => Color([1.0; 3]),
+        Some(ColorParam::Rgb(c)) => Color(c.map(|v| v as f32)),
+        Some(ColorParam::Texture(t)) => {
+            return Err(unsupported(t.at, "a textured specular_reflectance"))
+        }
+    };
+    Ok(MaterialDesc::Plastic {
+        diffuse: color(ctx, p, "diffuse_reflectance", 0.5)?,
+        specular,
+        ior: (int / ext) as f32,
+        nonlinear: p.bool("nonlinear")?.unwrap_or(false),
+    })
+}
+
+/// `dielectric` / `roughdielectric`, with the relative index of [`relative_ior`].
+fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
+    let ior = relative_ior(p)?;
     for key in ["specular_reflectance", "specular_transmittance"] {
         if let Some(c) = p.color(key)? {
             if !matches!(c, ColorParam::Rgb([1.0, 1.0, 1.0])) {
@@ -154,10 +213,15 @@ fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
             }
         }
     }
-    let alpha = if rough { roughness(p)? } else { 0.0 };
+    let (alpha, distribution) = if rough {
+        roughness(p)?
+    } else {
+        (0.0, MicrofacetDesc::Ggx)
+    };
     Ok(MaterialDesc::Dielectric {
-        ior: (int / ext) as f32,
+        ior,
         alpha,
+        distribution,
         multiscatter: MITSUBA_MULTISCATTER,
     })
 }
@@ -172,7 +236,11 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
     let eta = p.color("eta")?;
     let k = p.color("k")?;
     let tint = p.color("specular_reflectance")?;
-    let alpha = if rough { roughness(p)? } else { 0.0 };
+    let (alpha, distribution) = if rough {
+        roughness(p)?
+    } else {
+        (0.0, MicrofacetDesc::Ggx)
+    };
     let rgb = |c: Option<ColorParam>, key: &str| -> Result<Option<Color>> {
         match c {
             None => Ok(None),
@@ -195,6 +263,7 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
         // "none" (the default without eta/k): reflects everything at every angle.
         (_, false) => Ok(MaterialDesc::Conductor {
             alpha,
+            distribution,
             eta: None,
             k: None,
             f0: Some(ColorOrTexture::Color(Color([1.0; 3]))),
@@ -202,6 +271,7 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
         }),
         (None, true) => Ok(MaterialDesc::Conductor {
             alpha,
+            distribution,
             eta: Some(rgb(eta, "eta")?.unwrap_or(Color([0.0; 3]))),
             k: Some(rgb(k, "k")?.unwrap_or(Color([1.0; 3]))),
             f0: None,

@@ -5,7 +5,7 @@ use super::transform::rotate_degrees;
 use super::values::{ColorParam, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{Color, LightDesc};
+use crate::scene::description::{Color, LightDesc, SpotEdgeDesc};
 use glam::{DMat3, DMat4, DVec3};
 
 /// A light of the scene (not an area emitter: those belong to shapes).
@@ -76,19 +76,18 @@ fn constant(p: &Props, key: &str) -> Result<Color> {
     }
 }
 
-/// `<emitter type="spot">`: brume's edge (smoothstep in cosine) differs from
-/// Mitsuba's (linear in angle), so only a hard edge maps exactly.
+/// `<emitter type="spot">`: full intensity inside `beam_width`, falling
+/// linearly in angle to 0 at `cutoff_angle` (brume's `cone_edge = "linear"`).
 fn spot(p: &Props, m: &DMat4) -> Result<LightDesc> {
     let cutoff = p.float("cutoff_angle")?.unwrap_or(20.0);
     let beam = p.float("beam_width")?.unwrap_or(cutoff * 0.75);
-    if beam != cutoff {
-        return Err(unsupported(
-            p.node_of("beam_width").unwrap_or(p.owner),
-            &format!(
-                "a soft spot edge (beam_width {beam} < cutoff_angle {cutoff}): Mitsuba's falloff is \
-                 linear in angle, brume's a smoothstep in cosine; give beam_width equal to cutoff_angle"
-            ),
-        ));
+    if !(0.0..=cutoff).contains(&beam) {
+        return Err(p.node_of("beam_width").unwrap_or(p.owner).error(format!(
+            "beam_width {beam} must lie between 0 and cutoff_angle {cutoff}"
+        )));
+    }
+    if let Some(at) = p.node_of("texture") {
+        return Err(unsupported(at, "a spot light's projected texture"));
     }
     let f = |v: DVec3| v.as_vec3().to_array();
     Ok(LightDesc::Spot {
@@ -96,7 +95,8 @@ fn spot(p: &Props, m: &DMat4) -> Result<LightDesc> {
         look_at: f(m.transform_point3(DVec3::Z)),
         intensity: constant(p, "intensity")?,
         cone_angle: cutoff as f32,
-        cone_falloff: Some(0.0),
+        cone_falloff: Some((cutoff - beam) as f32),
+        cone_edge: SpotEdgeDesc::Linear,
     })
 }
 
