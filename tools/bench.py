@@ -157,12 +157,14 @@ def brume_toml(key, resolution=None, spp=64, vdb_path=None):
     out += ["[camera]", f"position = {vec(cam['position'])}", f"look_at = {vec(cam['look_at'])}",
             f"fov = {fov_y(cam):.9g}   # {cam['fov_x']} degrees horizontally",
             f"resolution = [{cam['resolution'][0]}, {cam['resolution'][1]}]", ""]
-    out += ["[integrator]", f"spp = {spp}", f"max_depth = {MAX_DEPTH_MITSUBA - 1}",
+    out += ["[integrator]", f"spp = {spp}", f"max_depth = {s.get('max_depth', MAX_DEPTH_MITSUBA) - 1}",
             f"rr_depth = {RR_DEPTH}", ""]
     for light in s["lights"]:
         out.append("[[light]]")
         if light["type"] == "environment":
             out += ['type = "environment"', f"radiance = {vec(light['radiance'])}"]
+        elif light["type"] == "environment_map":  # tools/cycles_bench.py's image sky
+            out += ['type = "environment_map"', f'file = "{REPO / light["file"]}"']
         else:
             out += ['type = "sun"', f"direction = {vec(light['direction'])}",
                     f"irradiance = {vec(light['irradiance'])}", "angular_radius = 0.0"]

@@ -24,7 +24,6 @@ import time
 import bpy
 from mathutils import Matrix, Vector
 
-BOUNCES = 63  # brume's max_depth in the bench table (scattering events)
 
 
 def reset():
@@ -36,14 +35,14 @@ def reset():
     return scene
 
 
-def settings(scene, resolution, threads, guiding, seed):
+def settings(scene, resolution, threads, guiding, seed, bounces):
     """Render settings that make Cycles estimate what brume does; returns them for the report."""
     c = scene.cycles
     values = {
         "samples": 1, "use_adaptive_sampling": False, "use_denoising": False,
-        "pixel_filter_type": "BOX", "filter_width": 1.0, "max_bounces": BOUNCES,
-        "diffuse_bounces": BOUNCES, "glossy_bounces": BOUNCES, "transmission_bounces": BOUNCES,
-        "volume_bounces": BOUNCES, "transparent_max_bounces": 4 * BOUNCES,
+        "pixel_filter_type": "BOX", "filter_width": 1.0, "max_bounces": bounces,
+        "diffuse_bounces": bounces, "glossy_bounces": bounces, "transmission_bounces": bounces,
+        "volume_bounces": bounces, "transparent_max_bounces": min(4 * bounces, 1024),
         "sample_clamp_direct": 0.0, "sample_clamp_indirect": 0.0, "blur_glossy": 0.0,
         "caustics_reflective": True, "caustics_refractive": True, "light_sampling_threshold": 0.0,
         "volume_biased": False, "use_light_tree": True, "seed": seed, "use_animated_seed": False,
@@ -103,6 +102,37 @@ def add_world(scene, radiance):
     world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (*radiance, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+    scene.world = world
+
+
+def add_world_map(scene, path):
+    """A lat-long map looked up as brume does (row 0 at +Y, u = φ/2π from +X toward +Z, nearest texel).
+
+    Blender's equirectangular lookup of a direction D is u = 0.5 − atan2(D.y, D.x)/2π
+    with +Z up; D = (−d.x, d.z, d.y) of brume's direction d gives the same texel.
+    """
+    world = bpy.data.worlds.new("world")
+    world.use_nodes = True
+    tree = world.node_tree
+    bg = tree.nodes["Background"]
+    coords = tree.nodes.new("ShaderNodeTexCoord")
+    split = tree.nodes.new("ShaderNodeSeparateXYZ")
+    neg = tree.nodes.new("ShaderNodeMath")
+    neg.operation = "MULTIPLY"
+    neg.inputs[1].default_value = -1.0
+    join = tree.nodes.new("ShaderNodeCombineXYZ")
+    tex = tree.nodes.new("ShaderNodeTexEnvironment")
+    tex.image = bpy.data.images.load(path)
+    tex.image.colorspace_settings.name = "Linear Rec.709"
+    tex.interpolation = "Closest"
+    tree.links.new(coords.outputs["Generated"], split.inputs[0])
+    tree.links.new(split.outputs["X"], neg.inputs[0])
+    tree.links.new(neg.outputs["Value"], join.inputs["X"])
+    tree.links.new(split.outputs["Z"], join.inputs["Y"])
+    tree.links.new(split.outputs["Y"], join.inputs["Z"])
+    tree.links.new(join.outputs["Vector"], tex.inputs["Vector"])
+    tree.links.new(tex.outputs["Color"], bg.inputs["Color"])
     bg.inputs["Strength"].default_value = 1.0
     scene.world = world
 
@@ -205,7 +235,11 @@ def add_medium(scene, medium, vdb_path):
         verts, faces = box_geometry(medium["min"], medium["max"])
         mesh_object(scene, "medium", verts, faces, volume_material(medium, None))
         return
-    vol = bpy.data.volumes.load(vdb_path)
+    vol = bpy.data.volumes.new("medium")
+    vol.filepath = vdb_path
+    vol.grids.load()
+    if "density" not in [g.name for g in vol.grids]:
+        raise SystemExit(f"cycles_scene.py: {vdb_path} has no grid named density")
     vol.render.clipping = 0.0
     vol.render.precision = "FULL"
     vol.materials.append(volume_material(medium, "density"))
@@ -216,13 +250,17 @@ def add_medium(scene, medium, vdb_path):
 def build(spec, resolution, threads, guiding, seed, vdb_path):
     """The whole Cycles scene for a table entry; returns the recorded render settings."""
     scene = reset()
-    recorded = settings(scene, resolution, threads, guiding, seed)
+    # The table's max_depth counts the camera vertex, as Mitsuba's does: brume and Cycles
+    # get one less (scattering events / bounces).
+    recorded = settings(scene, resolution, threads, guiding, seed, spec.get("max_depth", 64) - 1)
     add_camera(scene, spec["camera"])
     env = [x for x in spec["lights"] if x["type"] == "environment"]
     add_world(scene, env[0]["radiance"] if env else [0.0, 0.0, 0.0])
     for light in spec["lights"]:
         if light["type"] == "sun":
             add_sun(scene, light)
+        elif light["type"] == "environment_map":
+            add_world_map(scene, light["path"])
         elif light["type"] != "environment":
             raise SystemExit(f"cycles_scene.py: light type {light['type']!r} has no Cycles translation")
     for i, shape in enumerate(spec["shapes"]):
