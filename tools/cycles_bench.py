@@ -31,6 +31,7 @@ script says so and exits 2. Environment: BRUME_BENCH_CACHE, BRUME_CPU_LOCK
 """
 
 import argparse
+import contextlib
 import hashlib
 import json
 import math
@@ -181,20 +182,20 @@ def cached(name, tag, make):
     return halves[0], halves[1]
 
 
-def references(name, args, work):
-    """brume's converged reference and Cycles' long render, each as two halves."""
+def references(name, args, work, lock):
+    """brume's converged reference and Cycles' long render, each as two halves (`lock` around each)."""
     key, res = HARNESS[name]
     tag = [bench.SCENES[key], res, args.ref_seconds, bench.MAX_DEPTH_MITSUBA]
 
     def brume_half(seed):
-        with bench.cpu_lock():
+        with lock():
             spp = bench.brume_spp_for(key, res, args.threads, args.ref_seconds / 2, work)
             r = bench.run_brume(key, res, spp, args.threads, seed, work, "ref")
         print(f"  {name} reference half: brume {r['spp']} spp in {r['seconds']:.1f} s", flush=True)
         return r["image"]
 
     def cycles_half(seed):
-        with bench.cpu_lock():
+        with lock():
             r = run_cycles(key, res, 0, args.threads, seed, False, work, seconds=args.ref_seconds / 2)
         print(f"  {name} check half: cycles {r['spp']} spp in {r['seconds']:.1f} s", flush=True)
         return r["image"]
@@ -231,31 +232,39 @@ def one_run(who, key, res, spp, args, seed, work):
     return run_cycles(key, res, spp, args.threads, seed, SETTINGS[who], work, seconds=args.seconds)
 
 
-def measure(name, args, work):
-    """Equal-time runs of every renderer, scored against brume's reference."""
-    key, res = HARNESS[name]
-    brume_ref, cycles_ref = references(name, args, work)
-    check = match_check(brume_ref, cycles_ref)
-    print(f"  {name} match: cycles / brume mean {check['ratio']:.4f} ± {check['se']:.2g} "
-          f"(R, G, B {', '.join(f'{x:.4f}' for x in check['channels'])}), "
-          f"relative RMSE beyond noise {check['rel_rmse']:.4f}"
-          + ("" if check["ok"] else "  MISMATCH"), flush=True)
+def equal_time_runs(name, key, res, args, work, brume_ref):
+    """`--repeats` interleaved runs of every renderer at about `--seconds` each, scored."""
     renderers = ["brume"] + list(SETTINGS)
     runs = {r: [] for r in renderers}
     settings = None
+    spp = {"brume": bench.brume_spp_for(key, res, args.threads, args.seconds, work)}
+    for rep in range(args.repeats):
+        for who in renderers:
+            run = one_run(who, key, res, spp.get(who, 0), args, 100 + rep, work)
+            spp[who] = run["spp"]
+            settings = run.pop("settings", settings)
+            run.update(bench.score(run, *brume_ref))
+            del run["image"]
+            runs[who].append(run)
+            print(f"  {name} {who}: {run['spp']} spp, {run['seconds']:.2f} s, rmse {run['rmse']:.4g}, "
+                  f"eff {run['efficiency']:.4g}, noise/sample {run['noise']:.3f}, "
+                  f"mean/ref {run['mean_ratio']:.4f}", flush=True)
+    return runs, settings
+
+
+def measure(name, args, work):
+    """Equal-time runs of every renderer, scored against brume's reference."""
+    key, res = HARNESS[name]
+    # One hold of the CPU lock per scene (references, pilots and runs): on a shared
+    # machine each acquisition waits for other jobs, and a scene's runs stay together.
     with bench.cpu_lock():
-        spp = {"brume": bench.brume_spp_for(key, res, args.threads, args.seconds, work)}
-        for rep in range(args.repeats):
-            for who in renderers:
-                run = one_run(who, key, res, spp.get(who, 0), args, 100 + rep, work)
-                spp[who] = run["spp"]
-                settings = run.pop("settings", settings)
-                run.update(bench.score(run, *brume_ref))
-                del run["image"]
-                runs[who].append(run)
-                print(f"  {name} {who}: {run['spp']} spp, {run['seconds']:.2f} s, rmse {run['rmse']:.4g}, "
-                      f"eff {run['efficiency']:.4g}, noise/sample {run['noise']:.3f}, "
-                      f"mean/ref {run['mean_ratio']:.4f}", flush=True)
+        brume_ref, cycles_ref = references(name, args, work, contextlib.nullcontext)
+        check = match_check(brume_ref, cycles_ref)
+        print(f"  {name} match: cycles / brume mean {check['ratio']:.4f} ± {check['se']:.2g} "
+              f"(R, G, B {', '.join(f'{x:.4f}' for x in check['channels'])}), "
+              f"relative RMSE beyond noise {check['rel_rmse']:.4f}"
+              + ("" if check["ok"] else "  MISMATCH"), flush=True)
+        runs, settings = equal_time_runs(name, key, res, args, work, brume_ref)
     summary = {r: {k: bench.median([x[k] for x in v]) for k in ("seconds", "spp", "rmse", "efficiency",
                                                                  "noise", "mean_ratio", "samples_per_s")}
                for r, v in runs.items()}
