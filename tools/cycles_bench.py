@@ -3,8 +3,8 @@
 
 Scenes are described once, in tools/bench.py's parameter table format:
 the smoke plume (bench B3) and the homogeneous fog cube (B1) come from that
-table; the dense bright cloud and the sky-lit ground are defined here in the
-same format (CYCLES_EXTRA). brume's scene files are written by bench.py's
+table; the dense bright cloud and the diffuse ground under a uniform sky and
+under scenes/sky.exr are defined here in the same format (CYCLES_EXTRA). brume's scene files are written by bench.py's
 `brume_toml`, Cycles' scenes by tools/cycles_scene.py (a bpy worker process
 per render, so Cycles' memory and threads are its own).
 
