@@ -157,12 +157,14 @@ def brume_toml(key, resolution=None, spp=64, vdb_path=None):
     out += ["[camera]", f"position = {vec(cam['position'])}", f"look_at = {vec(cam['look_at'])}",
             f"fov = {fov_y(cam):.9g}   # {cam['fov_x']} degrees horizontally",
             f"resolution = [{cam['resolution'][0]}, {cam['resolution'][1]}]", ""]
-    out += ["[integrator]", f"spp = {spp}", f"max_depth = {MAX_DEPTH_MITSUBA - 1}",
+    out += ["[integrator]", f"spp = {spp}", f"max_depth = {s.get('max_depth', MAX_DEPTH_MITSUBA) - 1}",
             f"rr_depth = {RR_DEPTH}", ""]
     for light in s["lights"]:
         out.append("[[light]]")
         if light["type"] == "environment":
             out += ['type = "environment"', f"radiance = {vec(light['radiance'])}"]
+        elif light["type"] == "environment_map":  # tools/cycles_bench.py's image sky
+            out += ['type = "environment_map"', f'file = "{REPO / light["file"]}"']
         else:
             out += ['type = "sun"', f"direction = {vec(light['direction'])}",
                     f"irradiance = {vec(light['irradiance'])}", "angular_radius = 0.0"]
@@ -183,6 +185,8 @@ def brume_toml(key, resolution=None, spp=64, vdb_path=None):
                     f"radius = {shape['radius']}", f"emission = {vec(shape['radiance'])}"]
         out.append("")
     m = s["medium"]
+    if m is None:  # a scene of surfaces only (tools/cycles_bench.py's ground)
+        return "\n".join(out) + "\n"
     phase = '{ type = "isotropic" }' if m["g"] == 0 else f'{{ type = "hg", g = {m["g"]} }}'
     out.append("[[medium]]")
     if m["type"] == "homogeneous":
@@ -395,21 +399,15 @@ def peak_rss_of(cmd):
 
 
 def read_exr(path):
-    import numpy as np
-    import mitsuba as mi
-    mi.set_variant("scalar_rgb")
-    bitmap = mi.Bitmap(str(path))
-    if bitmap.channel_count() > 3:
-        # brume's film EXR also holds its exact sums and counts: keep the beauty.
-        bitmap = dict(bitmap.split())["<root>"]
-    return np.array(bitmap.convert(mi.Bitmap.PixelFormat.RGB,
-                                   mi.Struct.Type.Float32, srgb_gamma=False))
+    """The beauty of an EXR (brume's film files also hold sums and counts), without Mitsuba."""
+    from exr_numpy import read_rgb
+    return read_rgb(path)
 
 
 def scene_file(key, resolution, spp, work):
     m = SCENES[key]["medium"]
     vdb = None
-    if m["type"] == "vdb":
+    if m and m["type"] == "vdb":
         vdb = CLOUD if m["file"].startswith("$") else str(REPO / m["file"])
     path = work / f"{key}-{resolution[0]}x{resolution[1]}.toml"
     path.write_text(brume_toml(key, resolution, spp, vdb_path=vdb))
