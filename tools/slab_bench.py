@@ -15,8 +15,8 @@ docs/gallery.md.
         --plot docs/slab_error.png --sheet docs/slab_turntable.png
 
 Every bake, render and timing runs under the shared CPU lock
-(BRUME_CPU_LOCK, default /tmp/cpu.lock), taken per command, so a timing
-excludes the wait for the lock. Do not run the script itself under flock on
+(BRUME_CPU_LOCK, default /tmp/cpu.lock), taken once for the grid and once
+for the orbit, so a timing excludes the wait for the lock. Do not run the script itself under flock on
 the same file (it would wait for itself). Needs target/release/brume and
 the contact_sheet example built (cargo build --release --bin brume
 --example contact_sheet); matplotlib for the plot.
@@ -106,11 +106,10 @@ def cpu_lock():
 
 
 def run(cmd):
-    """Runs `cmd` under the CPU lock; its wall seconds (the lock's wait excluded)."""
-    with cpu_lock():
-        t0 = time.perf_counter()
-        p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
-        wall = time.perf_counter() - t0
+    """Runs `cmd` (the caller holds the CPU lock); its wall seconds."""
+    t0 = time.perf_counter()
+    p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+    wall = time.perf_counter() - t0
     if p.returncode != 0:
         sys.exit(f"{' '.join(map(str, cmd))} failed ({p.returncode}):\n{p.stderr[-2000:]}")
     return wall
@@ -291,17 +290,19 @@ def main():
     """Grid, orbit, table, plot, sheets."""
     args = parse_args()
     args.work.mkdir(parents=True, exist_ok=True)
-    ref, ref_noise, ref_s = reference(args.work, args.ref_spp)
-    rows = []
-    for s in map(int, args.spatial.split(",")):
-        for a in map(int, args.angular.split(",")):
-            rows.append(grid_cell(args.work, ref, s, a, args))
-            print(rows[-1], file=sys.stderr)
+    with cpu_lock():
+        ref, ref_noise, ref_s = reference(args.work, args.ref_spp)
+        rows = []
+        for s in map(int, args.spatial.split(",")):
+            for a in map(int, args.angular.split(",")):
+                rows.append(grid_cell(args.work, ref, s, a, args))
+                print(rows[-1], file=sys.stderr)
     cell = [r for r in rows if (r["spatial"], r["angular"]) ==
             (args.orbit_spatial, args.orbit_angular)]
-    slab = cell[0]["slab"] if cell else grid_cell(
-        args.work, ref, args.orbit_spatial, args.orbit_angular, args)["slab"]
-    o = orbit(args.work, slab, args)
+    with cpu_lock():
+        slab = cell[0]["slab"] if cell else grid_cell(
+            args.work, ref, args.orbit_spatial, args.orbit_angular, args)["slab"]
+        o = orbit(args.work, slab, args)
     text = "\n".join(grid_table(rows, ref_noise, ref_s, args) + orbit_lines(o, args)) + "\n"
     print(text)
     if args.markdown:
@@ -309,7 +310,8 @@ def main():
     if args.plot:
         plot(rows, args.plot)
     if args.sheet:
-        sheets(o, args.sheet, args.sheet_every)
+        with cpu_lock():
+            sheets(o, args.sheet, args.sheet_every)
 
 
 if __name__ == "__main__":
