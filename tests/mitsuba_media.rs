@@ -163,52 +163,69 @@ fn an_absorbing_rgb_grid_transmits_its_closed_form_optical_depth() {
         let column: Vec<f64> = (0..6).map(|z| value(0, 0, z, c) as f64).collect();
         (-optical_depth_along_z(&column, 1.5)).exp()
     });
-    assert_estimate(&est, expected, "RGB .vol absorber");
+    assert_estimate(&est, expected, "RGB .vol absorber along z");
+    // Across the ramp at fixed z: σt is the interpolated value there (one
+    // ray between voxel centres, one in the clamped outer half voxel).
+    for (z_local, seed) in [(0.3f64, 6), (0.04, 7)] {
+        let ray = Ray::new(Vec3::new(-3.0, 0.2, z_local as f32 - 0.5), Vec3::X);
+        let est = estimate_ray(&scene, ray, 40_000, seed);
+        let q = (z_local * 6.0 - 0.5).clamp(0.0, 5.0);
+        let (k, f) = (q.floor() as usize, q.fract());
+        let expected = [0, 1, 2].map(|c| {
+            let v = |z: usize| value(0, 0, z.min(5), c) as f64;
+            (-1.5 * ((1.0 - f) * v(k) + f * v(k + 1))).exp()
+        });
+        assert_estimate(
+            &est,
+            expected,
+            &format!("RGB .vol absorber across z = {z_local}"),
+        );
+    }
 }
 
-#[test]
-fn a_constant_grid_medium_matches_the_homogeneous_one() {
+/// A σt grid of constant `st` and an albedo grid of constant `al` (1 or 3
+/// channels) against the homogeneous medium of the same box, along one ray.
+fn constant_grid_against_homogeneous(st: [f32; 3], al: &[f32], seed: u64) {
     let dir = tempfile::tempdir().unwrap();
     let sigma = dir.path().join("s.vol");
     let albedo = dir.path().join("a.vol");
-    let (st, al) = ([0.8f32, 1.6, 2.4], [0.9f32, 0.5, 0.2]);
-    write_vol(
-        &sigma,
-        [3, 2, 4],
-        3,
-        [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0],
-        |_, _, _, c| st[c],
-    );
-    write_vol(
-        &albedo,
-        [2, 2, 2],
-        3,
-        [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0],
-        |_, _, _, c| al[c],
-    );
+    let box_ = [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0];
+    write_vol(&sigma, [3, 2, 4], 3, box_, |_, _, _, c| st[c]);
+    write_vol(&albedo, [2, 2, 2], al.len(), box_, |_, _, _, c| al[c]);
     let grid = scene_with(&format!(
         "type = \"vol\"\nsigma_t_file = {:?}\nalbedo_file = {:?}\nuse_grid_bbox = true\n\
          phase = {{ type = \"hg\", g = 0.4 }}",
         sigma.display().to_string(),
         albedo.display().to_string()
     ));
-    let homogeneous = scene_with(
-        "type = \"homogeneous\"\nsigma_t = [0.8, 1.6, 2.4]\nalbedo = [0.9, 0.5, 0.2]\n\
-         bounds = { type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }\n\
-         phase = { type = \"hg\", g = 0.4 }",
-    );
+    let al3 = [0, 1, 2].map(|c| al[c % al.len()]);
+    let homogeneous = scene_with(&format!(
+        "type = \"homogeneous\"\nsigma_t = {st:?}\nalbedo = {al3:?}\n\
+         bounds = {{ type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }}\n\
+         phase = {{ type = \"hg\", g = 0.4 }}"
+    ));
     let ray = Ray::new(
         Vec3::new(0.2, 0.1, -4.0),
         Vec3::new(0.05, 0.0, 1.0).normalize(),
     );
-    let a = estimate_ray(&grid, ray, 60_000, 11);
-    let b = estimate_ray(&homogeneous, ray, 60_000, 12);
-    common::assert_same(&a, &b, "constant .vol medium vs homogeneous");
-    let dim = [0, 1, 2].map(|c| a.mean[c]);
-    assert!(
-        dim.iter().all(|&v| v < 0.95),
-        "the medium must dim the environment: {dim:?}"
+    let a = estimate_ray(&grid, ray, 60_000, seed);
+    let b = estimate_ray(&homogeneous, ray, 60_000, seed + 1);
+    common::assert_same(
+        &a,
+        &b,
+        &format!("constant .vol medium (albedo {al:?}) vs homogeneous"),
     );
+    assert!(
+        a.mean.iter().all(|&v| v < 0.95),
+        "the medium must dim the environment: {:?}",
+        a.mean
+    );
+}
+
+#[test]
+fn a_constant_grid_medium_matches_the_homogeneous_one() {
+    constant_grid_against_homogeneous([0.8, 1.6, 2.4], &[0.9, 0.5, 0.2], 11);
+    constant_grid_against_homogeneous([1.2, 0.7, 2.0], &[0.6], 21);
 }
 
 /// A `.vol`-backed medium in a cube: σt RGB grid and a grey albedo grid.
