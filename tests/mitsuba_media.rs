@@ -458,3 +458,45 @@ fn a_damaged_vol_in_a_scene_is_named_with_its_key() {
         "{e}"
     );
 }
+
+/// The radiance of a constant emitter whose colour is `spectrum` (a `value`).
+fn imported_spectrum(spectrum: &str) -> brume::error::Result<[f32; 3]> {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        r#"<scene version="3.0.0"><sensor type="perspective"/><emitter type="constant"><spectrum name="radiance" value="{spectrum}"/></emitter></scene>"#
+    );
+    let path = dir.path().join("s.xml");
+    std::fs::write(&path, text).unwrap();
+    let desc = brume::scene::mitsuba::import(&path, Vec::new())?.desc;
+    match &desc.lights[0] {
+        brume::scene::description::LightDesc::Environment { radiance } => Ok(radiance.0),
+        other => panic!("not an environment: {other:?}"),
+    }
+}
+
+#[test]
+fn wavelength_lists_are_projected_through_the_cie_functions_to_linear_srgb() {
+    assert_eq!(
+        imported_spectrum("0.5").unwrap(),
+        [0.5; 3],
+        "a flat spectrum is grey"
+    );
+    // Equal energy over the CIE range: XYZ ≈ (½, ½, ½) (illuminant E, Y
+    // normalised by ∫ȳ), whose linear sRGB is ½ · M·(1, 1, 1), M the
+    // XYZ → sRGB matrix of IEC 61966-2-1 (row sums 1.2049, 0.9484, 0.9087).
+    let rgb = imported_spectrum("360:0.5, 830:0.5").unwrap();
+    let expected = [1.2049, 0.9484, 0.9087].map(|s: f32| 0.5 * s);
+    for c in 0..3 {
+        assert!(
+            (rgb[c] - expected[c]).abs() < 2e-3,
+            "{rgb:?} vs {expected:?}"
+        );
+    }
+    // Zero outside the list: the blue half of the range is blue.
+    let blue = imported_spectrum("380:1, 480:1").unwrap();
+    assert!(blue[2] > 5.0 * blue[0].max(blue[1]).max(0.0), "{blue:?}");
+    let e = imported_spectrum("500:1, 450:2").unwrap_err().to_string();
+    assert!(e.contains("must increase") && e.contains("s.xml"), "{e}");
+    let e = imported_spectrum("500:1, 0.3").unwrap_err().to_string();
+    assert!(e.contains("`0.3` is not wavelength:value"), "{e}");
+}
