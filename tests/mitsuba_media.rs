@@ -396,7 +396,7 @@ fn heterogeneous_media_import_with_mitsubas_defaults_and_parameters() {
 #[test]
 fn heterogeneous_media_outside_the_subset_are_refused_by_element() {
     let refused = |body: &str, words: &str| {
-        let e = import_medium(body).err().expect("refused").to_string();
+        let e = import_medium(body).expect_err("refused").to_string();
         assert!(e.contains(words) && !e.contains('\n'), "{e}");
     };
     let m = |inner: &str| format!(r#"<medium type="heterogeneous" id="m">{inner}</medium>"#);

@@ -46,8 +46,8 @@ pub struct AlbedoGrid {
 /// The channels of an albedo grid.
 #[derive(Clone, Debug)]
 enum AlbedoChannels {
-    Grey(FloatGrid),
-    Rgb(RgbGrids),
+    Grey(Box<FloatGrid>),
+    Rgb(Box<RgbGrids>),
 }
 
 impl AlbedoGrid {
@@ -56,12 +56,12 @@ impl AlbedoGrid {
     pub fn new(mut grids: Vec<FloatGrid>, res: [usize; 3], to_world: &Affine3A) -> Option<Self> {
         let world_to_index = grids.first()?.transform().world_to_index_placed(to_world);
         let channels = match grids.len() {
-            1 => AlbedoChannels::Grey(grids.pop()?),
+            1 => AlbedoChannels::Grey(Box::new(grids.pop()?)),
             3 => {
                 let b = grids.pop()?;
                 let g = grids.pop()?;
                 let r = grids.pop()?;
-                AlbedoChannels::Rgb(RgbGrids([r, g, b]))
+                AlbedoChannels::Rgb(Box::new(RgbGrids([r, g, b])))
             }
             _ => return None,
         };
