@@ -157,6 +157,8 @@ pub struct GridMedium {
     peak_majorant: f32,
     /// Per-channel σt and albedo grids (`.vol` media), if any; `density` is then the largest σt channel.
     channels: Option<Box<ChannelGrids>>,
+    /// Factor on a majorant cell's minimum giving its control extinction.
+    control_unit: Rgb,
 }
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
@@ -268,6 +270,7 @@ impl GridMedium {
             may_clamp,
             peak_majorant,
             channels: None,
+            control_unit: params.sigma_t_scale * params.density_scale,
         })
     }
 
@@ -403,6 +406,10 @@ impl GridMedium {
     /// Adds per-channel σt and albedo grids (see [`ChannelGrids`]); exact
     /// voxel walks are then off (they integrate the one density grid).
     pub fn set_channels(&mut self, channels: ChannelGrids) {
+        if channels.sigma_t.is_some() {
+            // The largest channel's minimum bounds no single channel from below.
+            self.control_unit = Rgb::BLACK;
+        }
         self.channels = Some(Box::new(channels));
     }
 
@@ -506,13 +513,7 @@ impl GridMedium {
             grid: &self.majorants,
             dda,
             sigma_t_unit: self.sigma_t_unit,
-            control_unit: match self.channels.as_deref() {
-                // The largest channel's minimum bounds no single channel from below.
-                Some(ChannelGrids {
-                    sigma_t: Some(_), ..
-                }) => Rgb::BLACK,
-                _ => self.sigma_t_unit,
-            },
+            control_unit: self.control_unit,
         }
     }
 }
