@@ -45,31 +45,8 @@ pub(crate) fn build_vol_medium(
     let f = |name: &str| format!("{field}.{name}");
     let sigma_t = read(&desc.sigma_t_file, &f("sigma_t_file"), base, check)?;
     check_values(&sigma_t, 0.0..=f32::MAX, &f("sigma_t_file"), check)?;
-    let scale = check.finite(&f("scale"), desc.scale.unwrap_or(1.0))?;
-    if scale < 0.0 {
-        return Err(check.error(&f("scale"), "must not be negative"));
-    }
-    if !(scale * sigma_t.max_value()).is_finite() {
-        return Err(check.error(
-            &f("scale"),
-            "times the largest sigma_t value overflows single precision",
-        ));
-    }
-    let albedo = match (&desc.albedo, &desc.albedo_file) {
-        (Some(_), Some(_)) => {
-            return Err(check.error(&f("albedo"), "give albedo or albedo_file, not both"))
-        }
-        (Some(a), None) => check.albedo(&f("albedo"), *a)?,
-        (None, _) => Rgb::WHITE,
-    };
-    let albedo_file = match &desc.albedo_file {
-        Some(p) => {
-            let v = read(p, &f("albedo_file"), base, check)?;
-            check_values(&v, 0.0..=1.0, &f("albedo_file"), check)?;
-            Some(v)
-        }
-        None => None,
-    };
+    let scale = build_scale(desc, &sigma_t, field, check)?;
+    let (albedo, albedo_file) = build_albedo(desc, field, base, check)?;
     let (to_world, keys) =
         super::keyframes::build_placement(desc.transform.as_ref(), field, check)?.split();
     let params = GridMediumParams {
@@ -106,6 +83,44 @@ pub(crate) fn build_vol_medium(
         medium.set_channels(channels);
     }
     Ok(Medium::Grid(Arc::new(medium)).moved_by(keys))
+}
+
+/// The checked `scale`: finite, ≥ 0, and times the largest σt still finite.
+fn build_scale(desc: &VolDesc, sigma_t: &VolFile, field: &str, check: &Check) -> Result<f32> {
+    let key = format!("{field}.scale");
+    let scale = check.finite(&key, desc.scale.unwrap_or(1.0))?;
+    if scale < 0.0 {
+        return Err(check.error(&key, "must not be negative"));
+    }
+    if !(scale * sigma_t.max_value()).is_finite() {
+        return Err(check.error(
+            &key,
+            "times the largest sigma_t value overflows single precision",
+        ));
+    }
+    Ok(scale)
+}
+
+/// The constant albedo (default 1) and the albedo grid file, at most one of them written.
+fn build_albedo(
+    desc: &VolDesc,
+    field: &str,
+    base: &Path,
+    check: &Check,
+) -> Result<(Rgb, Option<VolFile>)> {
+    let f = |name: &str| format!("{field}.{name}");
+    match (&desc.albedo, &desc.albedo_file) {
+        (Some(_), Some(_)) => {
+            Err(check.error(&f("albedo"), "give albedo or albedo_file, not both"))
+        }
+        (Some(a), None) => Ok((check.albedo(&f("albedo"), *a)?, None)),
+        (None, None) => Ok((Rgb::WHITE, None)),
+        (None, Some(p)) => {
+            let v = read(p, &f("albedo_file"), base, check)?;
+            check_values(&v, 0.0..=1.0, &f("albedo_file"), check)?;
+            Ok((Rgb::WHITE, Some(v)))
+        }
+    }
 }
 
 /// Reads the `.vol` file `written` (relative to the scene), errors naming `key` and the file.
