@@ -89,9 +89,9 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "textures",
     );
     refuses(
-        r#"<shape type="sphere"><spectrum name="x" value="400:1, 500:2"/></shape>"#,
+        r#"<emitter type="constant"><spectrum name="radiance" filename="d65.spd"/></emitter>"#,
         3,
-        r#"<spectrum name="x">"#,
+        r#"<spectrum name="radiance">"#,
         "not supported",
     );
 }

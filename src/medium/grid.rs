@@ -22,6 +22,7 @@
 use glam::IVec3;
 
 use super::blackbody::BlackbodyTable;
+use super::channels::ChannelGrids;
 use super::majorant_grid::{Dda, MajorantGrid};
 use super::motion::{GridMotion, MotionLookup};
 use super::voxel::VoxelWalk;
@@ -154,6 +155,10 @@ pub struct GridMedium {
     may_clamp: bool,
     /// The largest majorant of any cell (per unit ray parameter).
     peak_majorant: f32,
+    /// Per-channel σt and albedo grids (`.vol` media), if any; `density` is then the largest σt channel.
+    channels: Option<Box<ChannelGrids>>,
+    /// Factor on a majorant cell's minimum giving its control extinction.
+    control_unit: Rgb,
 }
 
 /// World → index map of a grid placed by `to_world`, as the inverse of (to_world ∘ index → world) in f64.
@@ -264,6 +269,8 @@ impl GridMedium {
             exact: ExactVoxels::Auto,
             may_clamp,
             peak_majorant,
+            channels: None,
+            control_unit: params.sigma_t_scale * params.density_scale,
         })
     }
 
@@ -281,6 +288,7 @@ impl GridMedium {
         let k = self.sigma_t_unit;
         self.exact != ExactVoxels::Never
             && self.motion.is_none()
+            && self.channels.is_none()
             && !(flight && k.min_channel() != k.max_channel())
     }
 
@@ -346,13 +354,74 @@ impl GridMedium {
     /// Extinction at world point `p` (one density lookup, no emission).
     #[inline]
     pub fn sigma_t(&self, p: Vec3) -> Rgb {
-        self.sigma_t_unit * self.density(p)
+        match &self.channels {
+            None => self.sigma_t_unit * self.density(p),
+            Some(c) => self.channel_sigma_t(c, p),
+        }
     }
 
     /// Coefficients at world point `p`.
     #[inline]
     pub fn properties(&self, p: Vec3) -> MediumProperties {
-        self.properties_with_density(p, self.density(p))
+        match &self.channels {
+            None => self.properties_with_density(p, self.density(p)),
+            Some(c) => self.channel_properties(c, p),
+        }
+    }
+
+    /// σt from per-channel grids (or the density when σt is grey).
+    fn channel_sigma_t(&self, c: &ChannelGrids, p: Vec3) -> Rgb {
+        let q = self.world_to_index.transform_point3(p);
+        if !self.bounds.contains(q) {
+            return Rgb::BLACK;
+        }
+        match &c.sigma_t {
+            Some(rgb) => self.sigma_t_unit * rgb.lookup(q),
+            None => self.sigma_t_unit * self.density.trilinear_index(q).max(0.0),
+        }
+    }
+
+    /// Coefficients with per-channel σt and the albedo grid looked up at `p`.
+    fn channel_properties(&self, c: &ChannelGrids, p: Vec3) -> MediumProperties {
+        let sigma_t = self.channel_sigma_t(c, p);
+        let albedo = match &c.albedo {
+            Some(a) => a.lookup_clamped(p),
+            None => self.albedo,
+        };
+        let sigma_s = sigma_t * albedo;
+        let sigma_a = sigma_t - sigma_s;
+        let emission = if sigma_a.is_black() {
+            Rgb::BLACK
+        } else {
+            self.emission_at(p)
+        };
+        MediumProperties {
+            sigma_a,
+            sigma_s,
+            emission,
+            phase: self.phase,
+        }
+    }
+
+    /// Adds per-channel σt and albedo grids (see [`ChannelGrids`]); exact
+    /// voxel walks are then off (they integrate the one density grid).
+    pub fn set_channels(&mut self, channels: ChannelGrids) {
+        if channels.sigma_t.is_some() {
+            // The largest channel's minimum bounds no single channel from below.
+            self.control_unit = Rgb::BLACK;
+        }
+        self.channels = Some(Box::new(channels));
+    }
+
+    /// Zero outside the index box `clip` (Mitsuba's grid bounding box): both
+    /// the lookups and the box tracking walks, so exact voxel walks stay exact.
+    pub fn set_clip(&mut self, clip: Bounds3) {
+        let cut = |b: Bounds3| Bounds3 {
+            min: b.min.max(clip.min),
+            max: b.max.min(clip.max),
+        };
+        self.bounds = cut(self.bounds);
+        self.track_bounds = cut(self.track_bounds);
     }
 
     /// Coefficients at world point `p` where the (clamped) density is `density`.
@@ -444,6 +513,7 @@ impl GridMedium {
             grid: &self.majorants,
             dda,
             sigma_t_unit: self.sigma_t_unit,
+            control_unit: self.control_unit,
         }
     }
 }
@@ -456,6 +526,8 @@ pub struct GridMajorants<'a> {
     grid: &'a MajorantGrid,
     dda: Option<Dda>,
     sigma_t_unit: Rgb,
+    /// Factor on a cell's minimum giving the control extinction (zero when no lower bound is known).
+    control_unit: Rgb,
 }
 
 impl GridMajorants<'_> {
@@ -484,7 +556,7 @@ impl Iterator for GridMajorants<'_> {
                 t1,
                 sigma_maj: max * self.sigma_t_unit.max_channel(),
                 decay: 0.0,
-                sigma_control: self.sigma_t_unit * min,
+                sigma_control: self.control_unit * min,
             });
         }
     }

@@ -7,6 +7,7 @@
 //! majorant segments.
 
 pub mod blackbody;
+pub mod channels;
 pub mod grid;
 pub mod height_fog;
 pub mod homogeneous;
@@ -18,6 +19,7 @@ pub mod phase;
 pub mod region;
 pub mod voxel;
 
+pub use channels::{AlbedoGrid, ChannelGrids, RgbGrids};
 pub use grid::{
     ExactVoxels, GridEmission, GridMedium, GridMediumParams, MajorantMode, MajorantTooLarge,
 };

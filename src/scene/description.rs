@@ -835,6 +835,34 @@ pub enum MediumDesc {
     },
     /// Density from an OpenVDB grid (see `scene::vdb`).
     Vdb(VdbDesc),
+    /// σt (and albedo) from Mitsuba `.vol` grids (see `scene::vol`).
+    Vol(VolDesc),
+}
+
+/// The fields of a `type = "vol"` medium.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VolDesc {
+    /// `.vol` file of σt (1 or 3 channels), relative to the scene file.
+    pub sigma_t_file: PathBuf,
+    /// Factor on the σt values (1/m per unit value, default 1).
+    #[serde(default)]
+    pub scale: Option<f32>,
+    /// Constant single-scattering albedo (default 1), without `albedo_file`.
+    #[serde(default)]
+    pub albedo: Option<Color>,
+    /// `.vol` file of the albedo (1 or 3 channels).
+    #[serde(default)]
+    pub albedo_file: Option<PathBuf>,
+    /// Place each grid in its file's bounding box instead of the unit cube.
+    #[serde(default)]
+    pub use_grid_bbox: bool,
+    /// Phase function (default isotropic).
+    #[serde(default)]
+    pub phase: Option<PhaseDesc>,
+    /// Placement of the grids' box.
+    #[serde(default)]
+    pub transform: Option<TransformDesc>,
 }
 
 /// `phase = { ... }` of a medium.

@@ -58,13 +58,27 @@ pub fn files_read(desc: &SceneDesc, scene: &Path, frame: Option<i64>) -> Vec<Inp
         if let Some(MediumDesc::Vdb(v)) = &shape.interior {
             add(format!("shape[{i}].interior.file"), &v.file);
         }
+        if let Some(MediumDesc::Vol(v)) = &shape.interior {
+            add_vol(&mut add, &format!("shape[{i}].interior"), v);
+        }
     }
     for (i, medium) in desc.media.iter().enumerate() {
         if let MediumDesc::Vdb(v) = medium {
             add(format!("medium[{i}].file"), &v.file);
         }
+        if let MediumDesc::Vol(v) = medium {
+            add_vol(&mut add, &format!("medium[{i}]"), v);
+        }
     }
     out
+}
+
+/// The `.vol` files of a `type = "vol"` medium at `field`.
+fn add_vol(add: &mut impl FnMut(String, &Path), field: &str, v: &super::description::VolDesc) {
+    add(format!("{field}.sigma_t_file"), &v.sigma_t_file);
+    if let Some(a) = &v.albedo_file {
+        add(format!("{field}.albedo_file"), a);
+    }
 }
 
 /// Adds to `plan` every file the scene in `scene` reads, for any frame:

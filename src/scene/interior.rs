@@ -91,10 +91,14 @@ pub(crate) fn build_interior(
             Medium::Grid(grid) => InteriorContent::Grid(grid),
             _ => unreachable!("a vdb description builds a grid medium"),
         },
+        MediumDesc::Vol(vol) => match super::vol::build_vol_medium(vol, &f, check, base, timing)? {
+            Medium::Grid(grid) => InteriorContent::Grid(grid),
+            _ => return Err(check.error(&f, "a vol interior cannot have keyframes")),
+        },
         MediumDesc::HeightFog { .. } => {
             return Err(check.error(
                 &f,
-                "height fog fills all space; an interior is `homogeneous` or `vdb`",
+                "height fog fills all space; an interior is `homogeneous`, `vdb` or `vol`",
             ))
         }
     };

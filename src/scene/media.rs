@@ -106,5 +106,6 @@ pub(crate) fn build_medium(
         }
         MediumDesc::HeightFog { .. } => super::fog::build_height_fog(desc, field, check),
         MediumDesc::Vdb(vdb) => super::vdb::build_vdb_medium(vdb, field, check, base, timing),
+        MediumDesc::Vol(vol) => super::vol::build_vol_medium(vol, field, check, base, timing),
     }
 }

@@ -31,6 +31,7 @@ pub use slab_keys::{SlabSpec, DEFAULT_ANGULAR, DEFAULT_SPATIAL};
 pub mod vdb;
 mod vdb_emission;
 mod vdb_grids;
+mod vol;
 
 use crate::error::{Error, Result};
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;

@@ -50,6 +50,7 @@ mod info;
 mod transform;
 mod tree;
 mod vec3;
+mod vol;
 
 use std::path::{Path, PathBuf};
 
@@ -61,6 +62,7 @@ pub use grid::{Block, FloatGrid, ValueCensus};
 pub use info::info_report;
 pub use transform::GridTransform;
 pub use vec3::Vec3Grid;
+pub use vol::{VolFile, VOL_HEADER_BYTES};
 
 use bytes::Reader;
 use error::{FResult, FormatError};

@@ -12,6 +12,8 @@
 //!   bounds overlapping a medium shape, and a camera inside one only if the
 //!   sensor names its medium.
 
+mod heterogeneous;
+
 use super::mechanics::Node;
 use super::shape::Imported;
 use super::values::{ColorParam, Obj, Props};
@@ -188,11 +190,20 @@ fn place_global<'a>(
     })
 }
 
-/// `<medium type="homogeneous">`: σt = scale · sigma_t, albedo σs/σt.
+/// A `<medium>`: `homogeneous` or `heterogeneous`.
 pub(crate) fn read(ctx: &Ctx, node: &Node) -> Result<MediumDesc> {
-    if node.required("type")? != "homogeneous" {
-        return Err(unsupported(node, "this medium (homogeneous only: heterogeneous media and .vol grids are not imported yet)"));
+    match node.required("type")? {
+        "homogeneous" => read_homogeneous(ctx, node),
+        "heterogeneous" => heterogeneous::read(ctx, node),
+        _ => Err(unsupported(
+            node,
+            "this medium (homogeneous, heterogeneous)",
+        )),
     }
+}
+
+/// `<medium type="homogeneous">`: σt = scale · sigma_t, albedo σs/σt.
+fn read_homogeneous(ctx: &Ctx, node: &Node) -> Result<MediumDesc> {
     let p = ctx.props(node)?;
     let sigma_t = coefficient(ctx, &p, "sigma_t", 1.0)?;
     let albedo = coefficient(ctx, &p, "albedo", 0.75)?;
@@ -233,7 +244,7 @@ fn coefficient(ctx: &Ctx, p: &Props, key: &str, default: f64) -> Result<[f64; 3]
 }
 
 /// A constant colour parameter.
-fn constant(p: &Props, key: &str, default: f64) -> Result<[f64; 3]> {
+pub(crate) fn constant(p: &Props, key: &str, default: f64) -> Result<[f64; 3]> {
     match p.color(key)? {
         None => Ok([default; 3]),
         Some(ColorParam::Rgb(c)) => Ok(c),
@@ -242,7 +253,7 @@ fn constant(p: &Props, key: &str, default: f64) -> Result<[f64; 3]> {
 }
 
 /// `<phase>`: isotropic (brume's default) or hg (Mitsuba's default g = 0.8).
-fn phase(ctx: &Ctx, node: &Node) -> Result<Option<PhaseDesc>> {
+pub(crate) fn phase(ctx: &Ctx, node: &Node) -> Result<Option<PhaseDesc>> {
     let p = ctx.props(node)?;
     let phase = match node.required("type")? {
         "isotropic" => None,
