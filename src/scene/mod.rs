@@ -554,6 +554,7 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
             }
         },
         adaptive: build_adaptive(integ, check)?,
+        guiding: integ.guiding,
     })
 }
 
