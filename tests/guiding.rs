@@ -60,7 +60,11 @@ fn assert_passes(name: &str, result: &Chi2Result) {
 #[test]
 fn quadtree_pdf_integrates_to_one_and_matches_its_sampling() {
     let tree = trained_tree();
-    assert!(tree.node_count() > 20, "a refined tree: {}", tree.node_count());
+    assert!(
+        tree.node_count() > 20,
+        "a refined tree: {}",
+        tree.node_count()
+    );
     let n = 4096;
     let mut integral = 0.0f64;
     for i in 0..n {
@@ -89,7 +93,8 @@ fn phase_mixture_follows_its_pdf() {
     let result = SphereChi2::new(200_000, 5).run(
         |u| {
             let s = sample_phase(&tree, &phase, dir_in, select.next_1d(), u)?;
-            let expected = phase.eval(dir_in, s.dir) / mixture_pdf(&tree, alpha, s.dir, phase.pdf(dir_in, s.dir));
+            let expected = phase.eval(dir_in, s.dir)
+                / mixture_pdf(&tree, alpha, s.dir, phase.pdf(dir_in, s.dir));
             assert!((s.weight.r - expected).abs() <= 1e-5 * expected, "weight");
             Some(s.dir)
         },
@@ -126,7 +131,10 @@ fn bsdf_mixture_weight_is_value_over_mixture_pdf() {
             None => none += 1,
         }
     }
-    assert!(some > 1000 && none > 0, "{some} kept, {none} under the surface");
+    assert!(
+        some > 1000 && none > 0,
+        "{some} kept, {none} under the surface"
+    );
 }
 
 /// Per-pixel estimates of a guided render: the guide trained as a render trains it.
@@ -239,7 +247,9 @@ fn guided_image_is_independent_of_thread_count() {
             threads: Some(threads),
             progress: false,
         };
-        render(scene, &options, &AtomicBool::new(false)).image.pixels
+        render(scene, &options, &AtomicBool::new(false))
+            .image
+            .pixels
     };
     let (one, two) = (render_with(&scene, 1), render_with(&scene, 2));
     assert!(one.iter().any(|p| p.max_channel() > 0.0));
@@ -250,7 +260,11 @@ fn guided_image_is_independent_of_thread_count() {
     };
     assert_eq!(bits(&one), bits(&two));
     scene.settings.guiding = false;
-    assert_ne!(bits(&one), bits(&render_with(&scene, 2)), "guiding changes the samples");
+    assert_ne!(
+        bits(&one),
+        bits(&render_with(&scene, 2)),
+        "guiding changes the samples"
+    );
 }
 
 /// A diffuse ground and a thin medium under a small emissive sphere (an
@@ -277,5 +291,10 @@ fn guided_and_unguided_agree_under_a_small_area_light() {
     let means: Vec<[f64; 3]> = plain.iter().map(|e| e.mean).collect();
     let ses: Vec<[f64; 3]> = plain.iter().map(|e| e.std_error).collect();
     assert!(means.iter().any(|m| m[0] > 0.01), "a lit image");
-    assert_pixels(&guided, &means, &ses, "guided vs unguided under an area light");
+    assert_pixels(
+        &guided,
+        &means,
+        &ses,
+        "guided vs unguided under an area light",
+    );
 }

@@ -451,7 +451,7 @@ fn medium_segment(
         FreeFlight::Scatter { t, properties, .. } => {
             let p = path.ray.at(t);
             path.scatter_depth += 1;
-            let tree = path.guide.and_then(|g| g.at(p));
+            let tree = guiding::tree_at(path.guide, p, path.depth);
             let vertex = Vertex::Medium {
                 p,
                 dir_in: path.ray.direction,
@@ -460,7 +460,8 @@ fn medium_segment(
             };
             let alpha = guiding::phase_fraction(&properties.phase);
             let mixed = tree.map(|t| (t, alpha));
-            path.radiance += path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
+            path.radiance +=
+                path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
             let Some((dir, weight, pdf)) =
                 scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler)
             else {
@@ -493,9 +494,11 @@ fn vertex_direct_light(
 ) -> Rgb {
     match mixed {
         None => direct_light(scene, vertex, path.ray.time, sampler),
-        Some((tree, alpha)) => direct_light_mixed(scene, vertex, path.ray.time, sampler, |d, pdf| {
-            guiding::mixture_pdf(tree, alpha, d, pdf)
-        }),
+        Some((tree, alpha)) => {
+            direct_light_mixed(scene, vertex, path.ray.time, sampler, |d, pdf| {
+                guiding::mixture_pdf(tree, alpha, d, pdf)
+            })
+        }
     }
 }
 
@@ -565,7 +568,7 @@ fn surface_vertex<G: Gather>(
         if G::ACTIVE {
             gather.surface(scene, hit, material, wo, path.throughput, path.depth);
         }
-        tree = path.guide.and_then(|g| g.at(hit.p));
+        tree = guiding::tree_at(path.guide, hit.p, path.depth);
         let vertex = Vertex::Surface {
             hit,
             shading,
@@ -573,7 +576,8 @@ fn surface_vertex<G: Gather>(
             material,
         };
         let mixed = tree.map(|t| (t, guiding::bsdf_fraction(material)));
-        path.radiance += path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
+        path.radiance +=
+            path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
     }
     let Some(bs) = scatter_at_surface(tree, material, &shading, wo, sampler) else {
         return Step::Stop;

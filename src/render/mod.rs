@@ -199,7 +199,10 @@ pub fn render_part(
 
 /// A path guide trained for `scene` in the current rayon pool (what a
 /// guided render samples from), `None` when `cancel` stopped the training.
-pub fn train_guide(scene: &Scene, cancel: &AtomicBool) -> Option<crate::integrator::guiding::Guide> {
+pub fn train_guide(
+    scene: &Scene,
+    cancel: &AtomicBool,
+) -> Option<crate::integrator::guiding::Guide> {
     guided::train(scene, cancel)
 }
 

@@ -50,7 +50,9 @@ impl Default for DTree {
 #[inline]
 pub fn dir_to_square(d: Vec3) -> Vec2 {
     let u = ((d.z.clamp(-1.0, 1.0) + 1.0) * 0.5).min(ONE_MINUS_EPSILON);
-    let v = (d.y.atan2(d.x) / (2.0 * PI)).rem_euclid(1.0).min(ONE_MINUS_EPSILON);
+    let v = (d.y.atan2(d.x) / (2.0 * PI))
+        .rem_euclid(1.0)
+        .min(ONE_MINUS_EPSILON);
     Vec2::new(u, v)
 }
 
@@ -173,8 +175,8 @@ impl DTree {
         }
         let mut stack = vec![(0usize, Some(0usize), self.nodes[0].energy, 1u32)];
         while let Some((new, old, energy, depth)) = stack.pop() {
-            for q in 0..4 {
-                if energy[q] / total <= SPLIT_FRACTION
+            for (q, &e) in energy.iter().enumerate() {
+                if e / total <= SPLIT_FRACTION
                     || depth >= MAX_DEPTH
                     || out.nodes.len() >= budget.max(1)
                 {
@@ -183,12 +185,17 @@ impl DTree {
                 let old_child = old.map(|o| self.nodes[o].child[q]).filter(|&c| c != 0);
                 let child_energy = match old_child {
                     Some(c) => self.nodes[c as usize].energy,
-                    None => [energy[q] / 4.0; 4],
+                    None => [e / 4.0; 4],
                 };
                 out.nodes.push(Node::default());
                 let index = out.nodes.len() - 1;
                 out.nodes[new].child[q] = index as u32;
-                stack.push((index, old_child.map(|c| c as usize), child_energy, depth + 1));
+                stack.push((
+                    index,
+                    old_child.map(|c| c as usize),
+                    child_energy,
+                    depth + 1,
+                ));
             }
         }
         out
@@ -206,7 +213,10 @@ mod tests {
             let d = square_to_dir(Vec2::new(u, v));
             assert!((d.length() - 1.0).abs() < 1e-5);
             let p = dir_to_square(d);
-            assert!((p.x - u).abs() < 1e-5 && (p.y - v).abs() < 1e-5, "{p} vs {u},{v}");
+            assert!(
+                (p.x - u).abs() < 1e-5 && (p.y - v).abs() < 1e-5,
+                "{p} vs {u},{v}"
+            );
         }
     }
 

@@ -158,6 +158,21 @@ impl Guide {
     }
 }
 
+/// Scattering events after which a path samples from its phase functions
+/// and BSDFs alone: each guided vertex multiplies the throughput by a
+/// weight of mean 1 but spread (up to 1/(1 − α)), and over the tens of
+/// collisions of a dense medium that product grows heavy tails (fireflies).
+pub const MAX_GUIDED_DEPTH: u32 = 4;
+
+/// The tree a vertex at `p`, after `depth` scattering events, samples from (if any).
+#[inline]
+pub fn tree_at(guide: Option<&Guide>, p: Vec3, depth: u32) -> Option<&DTree> {
+    match guide {
+        Some(g) if depth < MAX_GUIDED_DEPTH => g.at(p),
+        _ => None,
+    }
+}
+
 /// A direction drawn from the mixture, its weight f/p and the mixture density p.
 #[derive(Clone, Copy, Debug)]
 pub struct MixtureSample {

@@ -22,7 +22,11 @@ pub struct Leaf {
 #[derive(Clone, Copy, Debug)]
 enum Node {
     Leaf(u32),
-    Split { axis: u8, at: f32, children: [u32; 2] },
+    Split {
+        axis: u8,
+        at: f32,
+        children: [u32; 2],
+    },
 }
 
 /// The spatial binary tree.
