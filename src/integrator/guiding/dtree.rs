@@ -222,13 +222,16 @@ mod tests {
 
     /// Energy in one quadrant of the sphere: the refined tree subdivides it
     /// until each piece holds at most ρ, and leaves the empty ones alone.
+    /// A leaf's energy is taken as spread evenly over it, so each new child
+    /// splits all four of its quadrants again.
     #[test]
     fn refinement_follows_the_energy() {
         let mut t = DTree::default();
         t.deposit(square_to_dir(Vec2::new(0.1, 0.1)), 1.0);
         let r = t.refined(1000);
-        // 1 → 1/4 → 1/16 → 1/64 → 1/256 ≤ ρ: the root plus 4 nested levels.
-        assert_eq!(r.node_count(), 5);
+        // Quadrant energies 1 → 1/4 → 1/16 → 1/64 → 1/256 ≤ ρ: the root,
+        // then 1, 4 and 16 children each splitting their 4 quadrants.
+        assert_eq!(r.node_count(), 1 + 1 + 4 + 16 + 64);
         assert_eq!(r.energy(), 0.0);
         assert_eq!(t.refined(3).node_count(), 3);
     }
