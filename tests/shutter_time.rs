@@ -17,6 +17,7 @@ fn settings(shutter: Option<[f32; 2]>) -> Settings {
         sampler: brume::sampling::SamplerKind::Independent,
         sppm: Default::default(),
         adaptive: Default::default(),
+        guiding: false,
     }
 }
 

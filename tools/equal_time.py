@@ -12,6 +12,9 @@ estimates its own noise, which is subtracted from each run's squared error.
     python3 tools/equal_time.py scenes/mirror_beam.toml --integrators path,bdpt \\
         --seconds 20 --reference-spp 4096 --reference-integrator bdpt --repeats 3
 
+An integrator name ending in `+guiding` or `-guiding` also sets
+`integrator.guiding` (path guiding on or off) for its renders.
+
 Prints a Markdown table: integrator, samples per pixel reached, seconds,
 RMSE (reference noise removed), efficiency 1 / (MSE · seconds), each the
 median over `--repeats` seeds (efficiency with its min–max), and the
@@ -52,7 +55,14 @@ def cpu_lock():
 
 
 def integrator_flag(integrator: str) -> list:
-    """The `--set` that makes a render use `integrator`, whatever the scene file says."""
+    """The `--set` that makes a render use `integrator`, whatever the scene file says.
+
+    `NAME+guiding` / `NAME-guiding` also switch path guiding on / off
+    (`integrator.guiding`), e.g. `--integrators path-guiding,path+guiding`."""
+    for suffix, value in (("+guiding", "true"), ("-guiding", "false")):
+        if integrator.endswith(suffix):
+            name = integrator[: -len(suffix)]
+            return ["--set", f'integrator.type="{name}"', "--set", f"integrator.guiding={value}"]
     return ["--set", f'integrator.type="{integrator}"']
 
 

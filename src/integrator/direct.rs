@@ -105,6 +105,18 @@ pub(super) fn direct_light(
     time: f32,
     sampler: &mut Sampler,
 ) -> Rgb {
+    direct_light_mixed(scene, vertex, time, sampler, |_, pdf| pdf)
+}
+
+/// [`direct_light`] for a vertex that samples its continuation from a
+/// mixture (path guiding): `mixture(wi, scatter_pdf)` is the density MIS weighs against.
+pub(super) fn direct_light_mixed(
+    scene: &Scene,
+    vertex: &Vertex,
+    time: f32,
+    sampler: &mut Sampler,
+    mixture: impl Fn(Vec3, f32) -> f32,
+) -> Rgb {
     let pick = sampler.next_1d();
     let u = sampler.next_2d();
     let Some(index) = scene.light_pick.sample(pick) else {
@@ -116,6 +128,7 @@ pub(super) fn direct_light(
         return Rgb::BLACK;
     };
     let (f, scatter_pdf) = vertex.scattering(ls.wi);
+    let scatter_pdf = mixture(ls.wi, scatter_pdf);
     if f.is_black() {
         return Rgb::BLACK;
     }

@@ -12,6 +12,7 @@ pub mod bdpt;
 mod direct;
 mod equiangular;
 pub mod estimator;
+pub mod guiding;
 pub mod mlt;
 pub mod slab_record;
 pub mod sppm;
@@ -26,7 +27,8 @@ use crate::math::color::Rgb;
 use crate::math::{offset_origin, Ray, Vec3};
 use crate::medium::Medium;
 use crate::sampling::{power_heuristic, PixelStreams, Sampler, SamplerKind};
-use direct::{direct_light, Vertex};
+use direct::{direct_light, direct_light_mixed, Vertex};
+use guiding::{Guide, PathLog};
 pub use tracking::TransmittanceEstimator;
 use tracking::{sample_free_flight, FreeFlight};
 
@@ -72,6 +74,8 @@ pub struct Settings {
     pub sppm: sppm::SppmSettings,
     /// Adaptive sampling and the noise target (`integrator.adaptive`, `integrator.noise`).
     pub adaptive: adaptive_settings::AdaptiveSettings,
+    /// Path guiding of the path tracer (`integrator.guiding`, module [`guiding`]).
+    pub guiding: bool,
 }
 
 impl Settings {
@@ -181,7 +185,7 @@ impl Scene {
 }
 
 /// State of one path being traced.
-struct PathState {
+struct PathState<'g> {
     /// The ray of the current segment.
     ray: Ray,
     throughput: Rgb,
@@ -205,6 +209,10 @@ struct PathState {
     /// The far end of the first segment when it is bounded (a slab bake's
     /// line leaving a box): past it the ray gathers nothing.
     first_segment_end: Option<f32>,
+    /// The learned guide to sample from (`[integrator] guiding`), if any.
+    guide: Option<&'g Guide>,
+    /// A training path's log of guided vertices, if it trains the guide.
+    log: Option<&'g mut PathLog>,
 }
 
 /// Whether a path goes on after a step.
@@ -278,21 +286,59 @@ pub(crate) fn li_gathering<G: Gather>(
     gather: &mut G,
     first_segment_end: Option<f32>,
 ) -> Rgb {
-    let mut path = PathState {
-        ray,
-        throughput: Rgb::WHITE,
-        radiance: Rgb::BLACK,
-        prev_pdf: 1.0,
-        prev_delta: true,
-        prev_point: ray.origin,
-        prev_normal: None,
-        depth: 0,
-        scatter_depth: 0,
-        emission_only: scene.settings.max_depth == 0 || scene.settings.max_scatter_depth == 0,
-        first_segment_end,
-    };
+    let mut path = PathState::new(scene, ray, first_segment_end, None, None);
     while let Step::Continue = trace_segment(scene, &mut path, sampler, gather) {}
     path.radiance
+}
+
+/// [`li`] sampling from `guide` (module [`guiding`]), noting its guided vertices in `log`.
+pub(crate) fn li_path(
+    scene: &Scene,
+    ray: Ray,
+    sampler: &mut Sampler,
+    guide: Option<&Guide>,
+    log: Option<&mut PathLog>,
+) -> Rgb {
+    let mut path = PathState::new(scene, ray, None, guide, log);
+    while let Step::Continue = trace_segment(scene, &mut path, sampler, &mut NoGather) {}
+    path.radiance
+}
+
+impl<'g> PathState<'g> {
+    /// A path starting along `ray` from the camera (or a slab's line).
+    fn new(
+        scene: &Scene,
+        ray: Ray,
+        first_segment_end: Option<f32>,
+        guide: Option<&'g Guide>,
+        log: Option<&'g mut PathLog>,
+    ) -> PathState<'g> {
+        PathState {
+            ray,
+            throughput: Rgb::WHITE,
+            radiance: Rgb::BLACK,
+            prev_pdf: 1.0,
+            prev_delta: true,
+            prev_point: ray.origin,
+            prev_normal: None,
+            depth: 0,
+            scatter_depth: 0,
+            emission_only: scene.settings.max_depth == 0 || scene.settings.max_scatter_depth == 0,
+            first_segment_end,
+            guide,
+            log,
+        }
+    }
+
+    /// Notes the vertex at `p` about to be left along `dir`, drawn with density
+    /// `pdf`, its weight already in the throughput (training only). Before
+    /// roulette: what comes back is then an unbiased estimate of the radiance along `dir`.
+    #[inline]
+    fn log_vertex(&mut self, p: Vec3, dir: Vec3, pdf: f32) {
+        if let Some(log) = self.log.as_deref_mut() {
+            log.push(p, dir, pdf, self.throughput, self.radiance);
+        }
+    }
 }
 
 /// Follows the path's current ray to its next vertex, adding what it gathers on the way.
@@ -405,29 +451,76 @@ fn medium_segment(
         FreeFlight::Scatter { t, properties, .. } => {
             let p = path.ray.at(t);
             path.scatter_depth += 1;
+            let tree = guiding::tree_at(path.guide, p, path.depth);
             let vertex = Vertex::Medium {
                 p,
                 dir_in: path.ray.direction,
                 phase: &properties.phase,
                 equiangular: segment.as_ref().map(|s| (s, t)),
             };
-            path.radiance += path.throughput * direct_light(scene, &vertex, path.ray.time, sampler);
-            let Some(ps) = properties
-                .phase
-                .sample(path.ray.direction, sampler.next_2d())
+            let alpha = guiding::phase_fraction(&properties.phase);
+            let mixed = tree.map(|t| (t, alpha));
+            path.radiance +=
+                path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
+            let Some((dir, weight, pdf)) =
+                scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler)
             else {
                 return Some(Step::Stop);
             };
-            path.throughput *= ps.weight;
+            path.throughput *= weight;
             path.prev_normal = None;
+            path.log_vertex(p, dir, pdf);
             Some(continue_path(
                 scene,
                 path,
-                path.ray.spawn(p, ps.direction),
-                (ps.pdf, false, last_event),
+                path.ray.spawn(p, dir),
+                (pdf, false, last_event),
                 p,
                 sampler,
             ))
+        }
+    }
+}
+
+/// Next-event estimation at `vertex`, MIS-weighted against the mixture with
+/// the guide's tree (with share α) where the vertex samples from one.
+#[inline]
+fn vertex_direct_light(
+    scene: &Scene,
+    path: &PathState,
+    vertex: &Vertex,
+    mixed: Option<(&guiding::dtree::DTree, f32)>,
+    sampler: &mut Sampler,
+) -> Rgb {
+    match mixed {
+        None => direct_light(scene, vertex, path.ray.time, sampler),
+        Some((tree, alpha)) => {
+            direct_light_mixed(scene, vertex, path.ray.time, sampler, |d, pdf| {
+                guiding::mixture_pdf(tree, alpha, d, pdf)
+            })
+        }
+    }
+}
+
+/// A medium collision's continuation: direction, weight and density, from
+/// the phase function or its mixture with the guide's `tree`.
+/// `None` ends the path.
+#[inline]
+fn scatter_in_medium(
+    tree: Option<&guiding::dtree::DTree>,
+    phase: &crate::medium::PhaseFunction,
+    dir_in: Vec3,
+    sampler: &mut Sampler,
+) -> Option<(Vec3, Rgb, f32)> {
+    match tree {
+        None => {
+            let ps = phase.sample(dir_in, sampler.next_2d())?;
+            Some((ps.direction, Rgb::splat(ps.weight), ps.pdf))
+        }
+        Some(tree) => {
+            let u_sel = sampler.next_1d();
+            let ms = guiding::sample_phase(tree, phase, dir_in, u_sel, sampler.next_2d())?;
+            Some((ms.dir, ms.weight, ms.pdf))
         }
     }
 }
@@ -470,24 +563,30 @@ fn surface_vertex<G: Gather>(
     let wo = -path.ray.direction;
     let material = &scene.material_at(hit);
     let shading = Shading::facing(hit.shading_normal, wo);
+    let mut tree = None;
     if !material.is_delta() {
         if G::ACTIVE {
             gather.surface(scene, hit, material, wo, path.throughput, path.depth);
         }
+        tree = guiding::tree_at(path.guide, hit.p, path.depth);
         let vertex = Vertex::Surface {
             hit,
             shading,
             wo,
             material,
         };
-        path.radiance += path.throughput * direct_light(scene, &vertex, path.ray.time, sampler);
+        let mixed = tree.map(|t| (t, guiding::bsdf_fraction(material)));
+        path.radiance +=
+            path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
     }
-    let u = sampler.next_2d();
-    let Some(bs) = material.sample(&shading, wo, u, sampler.next_1d()) else {
+    let Some(bs) = scatter_at_surface(tree, material, &shading, wo, sampler) else {
         return Step::Stop;
     };
     path.throughput *= bs.weight;
     path.prev_normal = Some(shading.n);
+    if !bs.is_delta {
+        path.log_vertex(hit.p, bs.wi, bs.pdf);
+    }
     let ray = path
         .ray
         .spawn(offset_origin(hit.p, hit.geometric_normal, bs.wi), bs.wi);
@@ -500,6 +599,35 @@ fn surface_vertex<G: Gather>(
         hit.p,
         sampler,
     )
+}
+
+/// A surface vertex's continuation from the BSDF or its mixture with the guide's `tree`.
+#[inline]
+fn scatter_at_surface(
+    tree: Option<&guiding::dtree::DTree>,
+    material: &Material,
+    shading: &Shading,
+    wo: Vec3,
+    sampler: &mut Sampler,
+) -> Option<crate::material::BsdfSample> {
+    match tree {
+        None => {
+            let u = sampler.next_2d();
+            material.sample(shading, wo, u, sampler.next_1d())
+        }
+        Some(tree) => {
+            let u_sel = sampler.next_1d();
+            let u = sampler.next_2d();
+            let numbers = (u_sel, u, sampler.next_1d());
+            let ms = guiding::sample_bsdf(tree, material, shading, wo, numbers)?;
+            Some(crate::material::BsdfSample {
+                wi: ms.dir,
+                weight: ms.weight,
+                pdf: ms.pdf,
+                is_delta: false,
+            })
+        }
+    }
 }
 
 /// Moves the path onto the sampled continuation `ray` from vertex `p`.

@@ -14,6 +14,7 @@ pub mod cli_values;
 pub mod display;
 
 mod group;
+mod guided;
 pub mod merge_pieces;
 mod mlt;
 mod piloted;
@@ -28,6 +29,7 @@ use crate::film::image_io::{Image, NamedChannel};
 use crate::film::{Film, PixelSums, Provenance, Rect, SampleRange};
 use crate::integrator::aov::{Aov, AovPixel};
 use crate::integrator::bdpt::Bdpt;
+use crate::integrator::guiding::GuidedPathTracer;
 use crate::integrator::tracking::TrackingStats;
 use crate::integrator::{IntegratorKind, Scene};
 use crate::math::color::Rgb;
@@ -185,6 +187,9 @@ pub fn render_part(
 ) -> RenderOutput {
     // Chosen once per render: the driver is generic over the estimator, no dyn per sample.
     match scene.settings.integrator {
+        IntegratorKind::Path if scene.settings.guiding => {
+            render_guided(scene, options, part, cancel, on_pass)
+        }
         IntegratorKind::Path => {
             render_part_with(scene, &PathTracer, options, part, cancel, on_pass)
         }
@@ -202,6 +207,38 @@ pub fn render_part(
             mlt::render(scene, &settings, options, cancel, on_pass)
         }
     }
+}
+
+/// A path guide trained for `scene` in the current rayon pool (what a
+/// guided render samples from), `None` when `cancel` stopped the training.
+pub fn train_guide(
+    scene: &Scene,
+    cancel: &AtomicBool,
+) -> Option<crate::integrator::guiding::Guide> {
+    guided::train(scene, cancel)
+}
+
+/// [`render_part`] of the path tracer with path guiding: the guide is
+/// trained first (its time taken from a time budget), then the image's
+/// samples are taken with it. A render cancelled while training has no samples.
+fn render_guided(
+    scene: &Scene,
+    options: &RenderOptions,
+    part: &Part,
+    cancel: &AtomicBool,
+    on_pass: Option<PassObserver>,
+) -> RenderOutput {
+    let start = std::time::Instant::now();
+    let guide = thread_pool(options).install(|| guided::train(scene, cancel));
+    let mut options = options.clone();
+    if let Some(t) = options.time_budget.as_mut() {
+        *t = t.saturating_sub(start.elapsed());
+    }
+    let guide = guide.unwrap_or_default();
+    let estimator = GuidedPathTracer { guide: &guide };
+    let mut out = render_part_with(scene, &estimator, &options, part, cancel, on_pass);
+    out.elapsed = start.elapsed();
+    out
 }
 
 /// [`render_part`] with another estimator: the driver entry point of every

@@ -357,6 +357,9 @@ pub struct IntegratorDesc {
     /// Stop once the estimated relative error of the image reaches this.
     #[serde(default)]
     pub noise: Option<f32>,
+    /// Path guiding of the path tracer (learned incident light, mixed with phase/BSDF sampling).
+    #[serde(default)]
+    pub guiding: bool,
 }
 
 fn default_integrator_type() -> String {
@@ -396,6 +399,7 @@ impl Default for IntegratorDesc {
             chains: None,
             adaptive: None,
             noise: None,
+            guiding: false,
         }
     }
 }

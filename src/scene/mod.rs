@@ -509,6 +509,13 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
     if integ.kind != "mlt" {
         warn_mlt_keys(integ, check);
     }
+    if integ.guiding && integ.kind != "path" {
+        let message = format!(
+            "is a path-tracer setting, ignored by type = \"{}\"",
+            integ.kind
+        );
+        check.warn("integrator.guiding", message);
+    }
     Ok(Settings {
         integrator: match integ.kind.as_str() {
             "path" => IntegratorKind::Path,
@@ -555,6 +562,7 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
             }
         },
         adaptive: build_adaptive(integ, check)?,
+        guiding: integ.guiding,
     })
 }
 
