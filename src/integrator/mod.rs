@@ -25,7 +25,7 @@ use crate::material::texture::Texture;
 use crate::material::{Material, Shading};
 use crate::math::color::Rgb;
 use crate::math::{offset_origin, Ray, Vec3};
-use crate::medium::Medium;
+use crate::medium::{Medium, MediumProperties};
 use crate::sampling::{power_heuristic, PixelStreams, Sampler, SamplerKind};
 use direct::{direct_light, direct_light_mixed, Vertex};
 use guiding::{Guide, PathLog};
@@ -448,38 +448,54 @@ fn medium_segment(
         FreeFlight::Absorbed => Some(Step::Stop),
         FreeFlight::Passed => None,
         FreeFlight::Scatter { .. } if path.emission_only => Some(Step::Stop),
-        FreeFlight::Scatter { t, properties, .. } => {
-            let p = path.ray.at(t);
-            path.scatter_depth += 1;
-            let tree = guiding::tree_at(path.guide, p, path.depth);
-            let vertex = Vertex::Medium {
-                p,
-                dir_in: path.ray.direction,
-                phase: &properties.phase,
-                equiangular: segment.as_ref().map(|s| (s, t)),
-            };
-            let alpha = guiding::phase_fraction(&properties.phase);
-            let mixed = tree.map(|t| (t, alpha));
-            path.radiance +=
-                path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
-            let Some((dir, weight, pdf)) =
-                scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler)
-            else {
-                return Some(Step::Stop);
-            };
-            path.throughput *= weight;
-            path.prev_normal = None;
-            path.log_vertex(p, dir, pdf);
-            Some(continue_path(
-                scene,
-                path,
-                path.ray.spawn(p, dir),
-                (pdf, false, last_event),
-                p,
-                sampler,
-            ))
-        }
+        FreeFlight::Scatter { t, properties, .. } => Some(scatter_in_segment(
+            scene,
+            path,
+            (t, &properties),
+            segment.as_ref(),
+            (last_event, sampler),
+        )),
     }
+}
+
+/// A real collision at `t` of the path's segment: next-event estimation,
+/// then the next direction from the phase function (or its mixture with the
+/// guide) and the path carried on.
+fn scatter_in_segment(
+    scene: &Scene,
+    path: &mut PathState,
+    (t, properties): (f32, &MediumProperties),
+    segment: Option<&equiangular::Segment>,
+    (last_event, sampler): (bool, &mut Sampler),
+) -> Step {
+    let p = path.ray.at(t);
+    path.scatter_depth += 1;
+    let tree = guiding::tree_at(path.guide, p, path.depth);
+    let vertex = Vertex::Medium {
+        p,
+        dir_in: path.ray.direction,
+        phase: &properties.phase,
+        equiangular: segment.map(|s| (s, t)),
+    };
+    let alpha = guiding::phase_fraction(&properties.phase);
+    let mixed = tree.map(|t| (t, alpha));
+    path.radiance += path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
+    let Some((dir, weight, pdf)) =
+        scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler)
+    else {
+        return Step::Stop;
+    };
+    path.throughput *= weight;
+    path.prev_normal = None;
+    path.log_vertex(p, dir, pdf);
+    continue_path(
+        scene,
+        path,
+        path.ray.spawn(p, dir),
+        (pdf, false, last_event),
+        p,
+        sampler,
+    )
 }
 
 /// Next-event estimation at `vertex`, MIS-weighted against the mixture with

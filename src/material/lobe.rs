@@ -2,7 +2,8 @@
 //! the microfacet distribution and on energy compensation, so that `mod.rs`
 //! names each lobe once.
 
-use super::microfacet::{Beckmann, Distribution, Ggx};
+use super::beckmann::Beckmann;
+use super::microfacet::{Distribution, Ggx};
 use super::rough::{self, LocalSample};
 use super::{multiscatter, ConductorFresnel};
 use crate::math::color::Rgb;

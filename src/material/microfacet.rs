@@ -9,8 +9,6 @@
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::PI;
 
-pub use super::beckmann::Beckmann;
-
 /// Which microfacet distribution a rough lobe uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Distribution {
