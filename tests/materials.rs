@@ -5,38 +5,23 @@ mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_str};
 use analytic_support::ggx::ggx_white_albedo;
+use analytic_support::lobes::{self, direction};
 use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate, estimate_li, k_sigma};
 use brume::material::{ConductorFresnel, Distribution, Material, Shading};
 use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
-use brume::sampling::chi2::{Chi2Result, SphereChi2};
-use brume::sampling::Sampler;
-use std::cell::RefCell;
+use brume::sampling::chi2::Chi2Result;
 
 const ALPHA: f64 = 0.01;
 /// 3 conductor roughnesses × 3 angles + 2 dielectric roughnesses × 2 angles × 2 sides × 2 iors.
 const CHI2_TEST_COUNT: usize = 9 + 16;
 
-fn direction(theta_deg: f32) -> Vec3 {
-    let t = theta_deg.to_radians();
-    Vec3::new(t.sin(), 0.0, t.cos())
-}
+/// Salt of the lobe-choice stream of [`chi2_of`].
+const LOBE_SALT: u64 = 0xABCD;
 
-/// Chi-square of `m` sampled from `wo` with the surface normal +z (`front` picks the side).
 fn chi2_of(m: Material, wo: Vec3, front: bool, seed: u64) -> Chi2Result {
-    let normal = if front { Vec3::Z } else { -Vec3::Z };
-    let sp = Shading::facing(normal, wo);
-    let lobe = RefCell::new(Sampler::from_seed(seed ^ 0xABCD));
-    let mut test = SphereChi2::new(200_000, seed);
-    test.cos_theta_bins = 20;
-    test.run(
-        |u| {
-            let u_lobe = lobe.borrow_mut().next_1d();
-            m.sample(&sp, wo, u, u_lobe).map(|s| s.wi)
-        },
-        |d| m.pdf(&sp, wo, d),
-    )
+    lobes::chi2_of(m, wo, front, (seed, LOBE_SALT))
 }
 
 fn assert_chi2(name: &str, r: &Chi2Result) {

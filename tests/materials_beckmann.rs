@@ -5,38 +5,24 @@
 
 mod analytic_support;
 
+use analytic_support::lobes::{self, direction};
 use analytic_support::{assert_estimate, estimate};
 use brume::material::{ConductorFresnel, Distribution, Material, Shading};
 use brume::math::color::Rgb;
 use brume::math::Vec3;
-use brume::sampling::chi2::{Chi2Result, SphereChi2};
+use brume::sampling::chi2::Chi2Result;
 use brume::sampling::quadrature::gauss_legendre;
-use brume::sampling::Sampler;
-use std::cell::RefCell;
 use std::f64::consts::PI;
 
 const ALPHA: f64 = 0.01;
 /// 3 conductor roughnesses × 3 angles + 2 dielectric roughnesses × 2 angles × 2 sides.
 const CHI2_TEST_COUNT: usize = 9 + 8;
 
-fn direction(theta_deg: f32) -> Vec3 {
-    let t = theta_deg.to_radians();
-    Vec3::new(t.sin(), 0.0, t.cos())
-}
+/// Salt of the lobe-choice stream of [`chi2_of`].
+const LOBE_SALT: u64 = 0xBECC;
 
 fn chi2_of(m: Material, wo: Vec3, front: bool, seed: u64) -> Chi2Result {
-    let normal = if front { Vec3::Z } else { -Vec3::Z };
-    let sp = Shading::facing(normal, wo);
-    let lobe = RefCell::new(Sampler::from_seed(seed ^ 0xBECC));
-    let mut test = SphereChi2::new(200_000, seed);
-    test.cos_theta_bins = 20;
-    test.run(
-        |u| {
-            let u_lobe = lobe.borrow_mut().next_1d();
-            m.sample(&sp, wo, u, u_lobe).map(|s| s.wi)
-        },
-        |d| m.pdf(&sp, wo, d),
-    )
+    lobes::chi2_of(m, wo, front, (seed, LOBE_SALT))
 }
 
 fn conductor(alpha: f32, fresnel: ConductorFresnel) -> Material {

@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 pub mod common;
 pub mod ggx;
+pub mod lobes;
 
 #[allow(unused_imports)]
 pub use common::{

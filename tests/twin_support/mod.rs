@@ -1,5 +1,5 @@
 //! Renders a Mitsuba XML scene and its hand-written TOML twin and compares
-//! their bits (the helpers of tests/mitsuba_twins.rs, for the newer twins).
+//! their bits (shared by the twin tests: tests/mitsuba_twins.rs, tests/mitsuba_bsdfs.rs).
 
 use brume::math::color::Rgb;
 use std::path::{Path, PathBuf};
