@@ -388,6 +388,13 @@ impl GridMedium {
             Some(a) => a.lookup_clamped(p),
             None => self.albedo,
         };
+        self.properties_from(p, sigma_t, albedo)
+    }
+
+    /// The coefficients at `p` of extinction `sigma_t` and `albedo` (with the
+    /// medium's emission where it absorbs).
+    #[inline]
+    fn properties_from(&self, p: Vec3, sigma_t: Rgb, albedo: Rgb) -> MediumProperties {
         let sigma_s = sigma_t * albedo;
         let sigma_a = sigma_t - sigma_s;
         let emission = if sigma_a.is_black() {
@@ -427,20 +434,7 @@ impl GridMedium {
     /// Coefficients at world point `p` where the (clamped) density is `density`.
     #[inline]
     pub fn properties_with_density(&self, p: Vec3, density: f32) -> MediumProperties {
-        let sigma_t = self.sigma_t_unit * density;
-        let sigma_s = sigma_t * self.albedo;
-        let sigma_a = sigma_t - sigma_s;
-        let emission = if sigma_a.is_black() {
-            Rgb::BLACK
-        } else {
-            self.emission_at(p)
-        };
-        MediumProperties {
-            sigma_a,
-            sigma_s,
-            emission,
-            phase: self.phase,
-        }
+        self.properties_from(p, self.sigma_t_unit * density, self.albedo)
     }
 
     /// Coefficients at world point `p` at `time` (frames from the frame's time).
