@@ -298,3 +298,31 @@ fn guided_and_unguided_agree_under_a_small_area_light() {
         "guided vs unguided under an area light",
     );
 }
+
+/// `--debug-pixel` replays one pixel's samples alone, which a guided render
+/// never takes (its guide is learned from the whole image first): refused in
+/// one line naming the flag and the way past it, exit 2.
+#[test]
+fn debug_pixel_refuses_a_guided_scene() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = dir.path().join("g.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nposition = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\nresolution = [4, 4]\n\
+         [integrator]\nguiding = true\n[[light]]\ntype = \"environment\"\nradiance = 1.0\n",
+    )
+    .expect("write scene");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_brume"))
+        .arg("render")
+        .arg(&scene)
+        .args(["--debug-pixel", "1,1"])
+        .output()
+        .expect("run brume");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--debug-pixel") && err.contains("integrator.guiding=false"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+}

@@ -20,6 +20,13 @@ pub(crate) fn debug_pixel(scene: &brume::integrator::Scene, (x, y): (u32, u32)) 
             "replays the path tracer's samples only; this scene's [integrator] type is not \"path\"",
         ));
     }
+    if scene.settings.guiding {
+        // The guide is trained over the whole image first: one pixel alone would replay other samples.
+        return Err(argument(
+            "--debug-pixel",
+            "cannot replay a guided pixel (the guide is learned from the whole image before it); add --set integrator.guiding=false",
+        ));
+    }
     let spp = scene.settings.spp;
     let Stats {
         finite,
