@@ -4,6 +4,7 @@
 //! into the same description a user would write (rendered bit for bit).
 
 mod common;
+mod twin_support;
 
 use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
@@ -12,7 +13,6 @@ use brume::volume::VolFile;
 use common::{assert_estimate, estimate_ray, scene_from_str, SceneText};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 /// Writes a version-3 float32 `.vol` file: `value(x, y, z, c)` for each cell and channel.
 fn write_vol(
@@ -300,25 +300,11 @@ position = [2.0, 3.0, 1.0]
 intensity = 10.0
 "#;
 
-/// The pixels of `scene` (with its seed moved by `offset`), as bits.
+/// The pixels of `scene` (with its seed moved by `offset`), as bits; never all black.
 fn render_bits(scene: &Path, offset: u64) -> Vec<[u32; 3]> {
-    let mut loaded = brume::scene::load_with_inputs(scene)
-        .unwrap_or_else(|e| panic!("{}: {e}", scene.display()));
-    loaded.scene.settings.seed += offset;
-    let options = brume::render::RenderOptions {
-        spp: loaded.scene.settings.spp,
-        time_budget: None,
-        spp_is_cap: false,
-        threads: Some(2),
-        progress: false,
-    };
-    let image = brume::render::render(&loaded.scene, &options, &AtomicBool::new(false)).image;
-    assert!(image.pixels.iter().any(|p: &Rgb| p.max_channel() > 0.0));
-    image
-        .pixels
-        .iter()
-        .map(|p| [p.r.to_bits(), p.g.to_bits(), p.b.to_bits()])
-        .collect()
+    let pixels = twin_support::render(scene, offset);
+    assert!(pixels.iter().any(|p: &Rgb| p.max_channel() > 0.0));
+    twin_support::bits(&pixels)
 }
 
 #[test]

@@ -197,6 +197,22 @@ fn sigint_is_answered_at_once_while_the_viewer_reads_slowly() {
     );
 }
 
+/// Starts `brume ARGS` in `dir`, sends SIGINT after `wait` and expects exit
+/// 130; None (with `wait` doubled for the next try) when no pass had
+/// finished, so nothing was written.
+fn stop_after_a_pass(dir: &Path, args: &[&str], wait: &mut Duration) -> Option<(Output, Duration)> {
+    let child = spawn(dir, args);
+    std::thread::sleep(*wait);
+    let (out, answered) = stop(child, libc::SIGINT);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    if err.contains("nothing written") {
+        *wait *= 2;
+        return None;
+    }
+    Some((out, answered))
+}
+
 /// SIGINT once a pass of a 2048² render has finished: the 4 M pixels are
 /// written (EXR and PNG) and brume gone within a second. Before the writes
 /// were made fast and parallel this took 1.3 s at this size (2.6 s at 4096²).
@@ -210,19 +226,12 @@ fn sigint_on_a_large_image_writes_and_exits_within_a_second() {
     for _ in 0..4 {
         let dir = tempfile::tempdir().unwrap();
         write_scene(dir.path(), 2048, 1_000_000, false);
-        let child = spawn(
-            dir.path(),
-            &["render", "s.toml", "--quiet", "--time", "600"],
-        );
-        std::thread::sleep(wait_for_pass);
-        let (out, answered) = stop(child, libc::SIGINT);
-        let err = stderr(&out);
-        assert_eq!(out.status.code(), Some(130), "{err}");
-        if err.contains("nothing written") {
-            // No pass had finished yet: nothing to write, so nothing measured.
-            wait_for_pass *= 2;
+        let args = ["render", "s.toml", "--quiet", "--time", "600"];
+        // No pass finished yet: nothing to write, so nothing measured.
+        let Some((out, answered)) = stop_after_a_pass(dir.path(), &args, &mut wait_for_pass) else {
             continue;
-        }
+        };
+        let err = stderr(&out);
         assert!(err.contains("interrupted: saved the"), "{err}");
         let (w, h, _) = brume::film::image_io::read_exr(&dir.path().join("s.exr")).unwrap();
         assert_eq!((w, h), (2048, 2048));
@@ -279,18 +288,10 @@ fn a_stopped_timed_render_is_written_with_the_fast_encoding() {
     write_scene(dir.path(), 128, 1, true);
     let mut wait_for_pass = Duration::from_millis(500);
     for _ in 0..4 {
-        let child = spawn(
-            dir.path(),
-            &[
-                "render", "s.toml", "--quiet", "--time", "600", "--aovs", "depth",
-            ],
-        );
-        std::thread::sleep(wait_for_pass);
-        let (out, _) = stop(child, libc::SIGINT);
-        let err = stderr(&out);
-        assert_eq!(out.status.code(), Some(130), "{err}");
-        if err.contains("nothing written") {
-            wait_for_pass *= 2;
+        let args = [
+            "render", "s.toml", "--quiet", "--time", "600", "--aovs", "depth",
+        ];
+        if stop_after_a_pass(dir.path(), &args, &mut wait_for_pass).is_none() {
             continue;
         }
         let meta = exr::meta::MetaData::read_from_file(dir.path().join("s.exr"), false).unwrap();

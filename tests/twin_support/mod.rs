@@ -1,5 +1,6 @@
 //! Renders a Mitsuba XML scene and its hand-written TOML twin and compares
 //! their bits (shared by the twin tests: tests/mitsuba_twins.rs, tests/mitsuba_bsdfs.rs).
+#![allow(dead_code)]
 
 use brume::math::color::Rgb;
 use std::path::{Path, PathBuf};
