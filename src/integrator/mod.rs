@@ -676,6 +676,24 @@ fn continue_path(
     }
 }
 
+/// Depth from which Russian roulette's survival probability is capped below 1.
+///
+/// Up to it a path survives with probability min(1, its throughput's largest
+/// channel), so a survivor's throughput never grows past 1: in a dense,
+/// nearly white medium (a cloud of albedo 0.99) a cap of 0.95 at every event
+/// would multiply a long walk's throughput by 0.99/0.95 per event and turn
+/// its rare deep paths into fireflies. Past it the cap of 0.95 guarantees
+/// that every path ends, even in a lossless furnace without a depth limit.
+pub const RR_UNCAPPED_DEPTH: u32 = 256;
+
+/// Survival probability of Russian roulette for a path whose throughput,
+/// relative to its start, has largest channel `relative` after `depth` events.
+#[inline]
+pub fn survival_probability(relative: f32, depth: u32) -> f32 {
+    let cap = if depth < RR_UNCAPPED_DEPTH { 1.0 } else { 0.95 };
+    relative.min(cap)
+}
+
 /// Ends the path with probability `1 - q` past `rr_depth`, reweighting survivors by `1/q`.
 fn russian_roulette(
     throughput: &mut Rgb,
@@ -686,11 +704,13 @@ fn russian_roulette(
     if depth < rr_depth {
         return true;
     }
-    let q = throughput.max_channel().min(0.95);
+    let q = survival_probability(throughput.max_channel(), depth);
     if q <= 0.0 || sampler.next_1d() >= q {
         return false;
     }
-    *throughput /= q;
+    if q < 1.0 {
+        *throughput /= q;
+    }
     true
 }
 
@@ -698,8 +718,30 @@ fn russian_roulette(
 mod tests {
     use super::*;
 
+    /// A walk of 255 events in a medium of albedo 0.99 (a cloud): every
+    /// survivor's throughput stays at most 1, where a survival probability
+    /// capped at 0.95 would have grown it by 0.99/0.95 per event (to ~10^4).
+    #[test]
+    fn roulette_never_grows_a_survivors_throughput_before_the_cap_depth() {
+        let mut largest = 0.0f32;
+        for i in 0..200 {
+            let mut sampler = Sampler::new(3, 4, 5, i);
+            let mut throughput = Rgb::new(1.0, 1.0, 1.0);
+            for depth in 1..RR_UNCAPPED_DEPTH {
+                throughput *= 0.99;
+                if !russian_roulette(&mut throughput, depth, 1, &mut sampler) {
+                    break;
+                }
+                largest = largest.max(throughput.max_channel());
+            }
+        }
+        assert!(largest <= 1.0, "a survivor's throughput grew to {largest}");
+        assert_eq!(survival_probability(3.0, RR_UNCAPPED_DEPTH - 1), 1.0);
+        assert_eq!(survival_probability(3.0, RR_UNCAPPED_DEPTH), 0.95);
+    }
+
     /// Past `rr_depth` a path survives with probability q = max channel
-    /// (at most 0.95) and its survivors carry 1/q; before it, and never with
+    /// (at most 1, or 0.95 past [`RR_UNCAPPED_DEPTH`]) and its survivors carry 1/q; before it, and never with
     /// zero throughput, nothing is drawn.
     #[test]
     fn russian_roulette_keeps_a_path_with_its_largest_channel_as_probability() {

@@ -400,10 +400,15 @@ fn roulette(scene: &Scene, walk: &mut Walk, depth: usize, sampler: &mut Sampler)
     if depth < scene.settings.rr_depth as usize {
         return true;
     }
-    let q = (walk.beta.max_channel() / walk.beta_start).min(0.95);
+    let q = crate::integrator::survival_probability(
+        walk.beta.max_channel() / walk.beta_start,
+        depth as u32,
+    );
     if !positive(q) || sampler.next_1d() >= q {
         return false;
     }
-    walk.beta /= q;
+    if q < 1.0 {
+        walk.beta /= q;
+    }
     true
 }
