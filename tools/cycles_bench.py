@@ -200,7 +200,9 @@ def references(name, args, work, lock):
         print(f"  {name} check half: cycles {r['spp']} spp in {r['seconds']:.1f} s", flush=True)
         return r["image"]
 
-    brume_ref = cached(f"{name}-brume", tag + ["brume"], brume_half)
+    # The binary's digest keys brume's reference: a changed renderer renders it anew.
+    brume_digest = hashlib.sha256(bench.BRUME.read_bytes()).hexdigest()[:16]
+    brume_ref = cached(f"{name}-brume", tag + ["brume", brume_digest], brume_half)
     cycles_ref = cached(f"{name}-cycles", tag + ["cycles", args.bpy], cycles_half)
     return brume_ref, cycles_ref
 
