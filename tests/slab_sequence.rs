@@ -1,7 +1,7 @@
 //! A slab viewed along a camera orbit in one `brume render --frames`
 //! process: the sequence keeps the slab file between frames
 //! (`scene::InputCache`), and must render exactly what separate processes
-//! render; `animation.keyframe_time = "sequence"` moves the camera across
+//! render; `animation.keyframe_time = "absolute"` moves the camera across
 //! frames.
 
 mod common;
@@ -39,7 +39,7 @@ fn write_slab(path: &Path) {
 const ORBIT: &str = "[camera]\nposition = [0.0, 0.6, 3.0]\nlook_at = [0.0, 0.0, 0.0]\n\
     resolution = [24, 24]\n\
     transform = { keyframes = [{ time = 0.0 }, { time = 4.0, rotate = [0.0, 90.0, 0.0] }] }\n\
-    [animation]\nkeyframe_time = \"sequence\"\n\
+    [animation]\nkeyframe_time = \"absolute\"\n\
     [integrator]\nspp = 2\n[[light]]\ntype = \"environment\"\nradiance = 0.25\n\
     [[shape]]\ntype = \"slab\"\nfile = \"orbit.slab\"\n";
 
@@ -122,7 +122,7 @@ fn a_sequence_renders_what_separate_processes_render() {
 /// camera position turned by 45°, up to f32 rounding of the rotation; frame 0
 /// is the unturned view.
 #[test]
-fn sequence_keyframe_times_are_frame_numbers() {
+fn absolute_keyframe_times_are_frame_numbers() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     write_slab(&d.join("orbit.slab"));

@@ -8,7 +8,7 @@ never used) and compared with path tracing that view: RMSE, relative error
 of the image mean, file size, bake time and view time. Then a 64-frame
 orbit around the slab's box, rendered as a user would: one
 `brume render --frames` process whose camera is keyframed around the box
-(`animation.keyframe_time = "sequence"`), every frame from the slab, and
+(`animation.keyframe_time = "absolute"`), every frame from the slab, and
 path traced at 256 spp the same way (all frames, or every Nth frame and the
 total scaled), and the ratio of their wall times; the slab orbit is also
 timed as one process per frame. Optionally the turntable contact sheets for
@@ -193,7 +193,7 @@ def orbit_sequence(text, frames, out, args, spp):
     wall seconds."""
     toml = out.with_suffix(".toml")
     toml.write_text(orbit_camera(args.frames, args.orbit_size) + text
-                    + '[animation]\nkeyframe_time = "sequence"\n')
+                    + '[animation]\nkeyframe_time = "absolute"\n')
     return run([BRUME, "render", "--quiet", toml, "--frames", frames,
                 "--out", f"{out}####.exr", "--png", f"{out}####.png", "--spp", spp])
 

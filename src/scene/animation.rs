@@ -65,16 +65,16 @@ pub struct AnimationDesc {
 pub enum KeyframeTime {
     /// The frame's own time: keys move an object within a frame's shutter.
     #[default]
-    Frame,
+    Relative,
     /// Frame 0: a key's time is a frame number, so keys move an object
     /// across the frames of a sequence (a camera orbit); a still is frame 0.
-    Sequence,
+    Absolute,
 }
 
 impl<'de> Deserialize<'de> for KeyframeTime {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<KeyframeTime, D::Error> {
-        const ALL: [KeyframeTime; 2] = [KeyframeTime::Frame, KeyframeTime::Sequence];
-        Ok(ALL[super::messages::one_of(d, &["frame", "sequence"])?])
+        const ALL: [KeyframeTime; 2] = [KeyframeTime::Relative, KeyframeTime::Absolute];
+        Ok(ALL[super::messages::one_of(d, &["relative", "absolute"])?])
     }
 }
 
@@ -84,7 +84,7 @@ impl Default for AnimationDesc {
             fps: default_fps(),
             frame_offset: 0,
             missing_frames: MissingFrames::Error,
-            keyframe_time: KeyframeTime::Frame,
+            keyframe_time: KeyframeTime::Relative,
         }
     }
 }

@@ -522,11 +522,11 @@ pub fn build_frame_cached(
 }
 
 /// The time keyframe times count from: the frame number for
-/// `keyframe_time = "sequence"` (a still is frame 0), else 0.
+/// `keyframe_time = "absolute"` (a still is frame 0), else 0.
 fn key_time_origin(desc: &SceneDesc, frame: Option<i64>) -> f32 {
     match desc.animation.keyframe_time {
-        animation::KeyframeTime::Frame => 0.0,
-        animation::KeyframeTime::Sequence => frame.unwrap_or(0) as f32,
+        animation::KeyframeTime::Relative => 0.0,
+        animation::KeyframeTime::Absolute => frame.unwrap_or(0) as f32,
     }
 }
 

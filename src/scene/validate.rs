@@ -11,7 +11,7 @@ pub(crate) struct Check {
     file: PathBuf,
     warnings: std::cell::RefCell<Vec<String>>,
     /// The time keyframe times are measured from, in frames: the frame
-    /// number under `animation.keyframe_time = "sequence"`, else 0.
+    /// number under `animation.keyframe_time = "absolute"`, else 0.
     key_time_origin: f32,
 }
 
