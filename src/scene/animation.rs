@@ -55,6 +55,27 @@ pub struct AnimationDesc {
     /// Behaviour for frames outside the files on disk.
     #[serde(default)]
     pub missing_frames: MissingFrames,
+    /// What keyframe times count from: each frame's own time, or frame 0.
+    #[serde(default)]
+    pub keyframe_time: KeyframeTime,
+}
+
+/// What keyframe times are measured from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum KeyframeTime {
+    /// The frame's own time: keys move an object within a frame's shutter.
+    #[default]
+    Relative,
+    /// Frame 0: a key's time is a frame number, so keys move an object
+    /// across the frames of a sequence (a camera orbit); a still is frame 0.
+    Absolute,
+}
+
+impl<'de> Deserialize<'de> for KeyframeTime {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<KeyframeTime, D::Error> {
+        const ALL: [KeyframeTime; 2] = [KeyframeTime::Relative, KeyframeTime::Absolute];
+        Ok(ALL[super::messages::one_of(d, &["relative", "absolute"])?])
+    }
 }
 
 impl Default for AnimationDesc {
@@ -63,6 +84,7 @@ impl Default for AnimationDesc {
             fps: default_fps(),
             frame_offset: 0,
             missing_frames: MissingFrames::Error,
+            keyframe_time: KeyframeTime::Relative,
         }
     }
 }

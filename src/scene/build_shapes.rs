@@ -32,7 +32,7 @@ pub(super) struct Shapes {
 pub(super) fn build_shapes(
     desc: &SceneDesc,
     check: &Check,
-    base: &Path,
+    (base, cache): (&Path, &super::InputCache),
     timing: &Timing,
 ) -> Result<Shapes> {
     let mut surfaces = Surfaces::default();
@@ -50,7 +50,7 @@ pub(super) fn build_shapes(
                 shape,
                 (i as u32, &field),
                 check,
-                base,
+                (base, cache),
             )?);
             // Indexed like the shapes; a slab has no surface to use them.
             let (material, texture) = build_material(None, &field, check, base, &mut images)?;

@@ -114,7 +114,7 @@ fn build_keys(keys: &[KeyframeDesc], prefix: &str, check: &Check) -> Result<Vec<
     for (i, k) in keys.iter().enumerate() {
         let key_field = format!("{prefix}.keyframes[{i}]");
         let time = check.finite(&format!("{key_field}.time"), k.time)?;
-        if let Some(prev) = built.last().map(|k: &Key| k.time) {
+        if let Some(prev) = keys[..i].last().map(|k| k.time) {
             if time <= prev {
                 return Err(check.error(
                     &format!("{key_field}.time"),
@@ -124,7 +124,8 @@ fn build_keys(keys: &[KeyframeDesc], prefix: &str, check: &Check) -> Result<Vec<
         }
         let (scale, rotation, translate) = trs(k.translate, k.rotate, k.scale, &key_field, check)?;
         built.push(Key {
-            time,
+            // Sequence keyframe times are frame numbers: this frame's time is 0.
+            time: time - check.key_time_origin(),
             translate,
             rotation,
             scale,

@@ -10,6 +10,7 @@ pub mod description;
 mod envmap;
 mod files;
 mod fog;
+pub mod input_cache;
 pub mod inputs;
 mod interior;
 mod keyframes;
@@ -26,6 +27,7 @@ mod slab_keys;
 mod sppm_keys;
 mod textures;
 mod validate;
+pub use input_cache::InputCache;
 pub use overrides::Override;
 pub use slab_keys::{SlabSpec, DEFAULT_ANGULAR, DEFAULT_SPATIAL};
 pub mod vdb;
@@ -79,18 +81,35 @@ pub fn load_frame_with_overrides(
     frame: Option<i64>,
     overrides: &[Override],
 ) -> Result<Loaded> {
-    load_overridden(path, frame, overrides).map_err(|e| overrides::name_the_set(e, overrides))
+    load_frame_cached(path, frame, overrides, &InputCache::new())
 }
 
-/// [`load_frame_with_overrides`] before errors are attributed.
-fn load_overridden(path: &Path, frame: Option<i64>, overrides: &[Override]) -> Result<Loaded> {
+/// [`load_frame_with_overrides`] taking unchanged inputs (slab files) from
+/// `cache`, and keeping what it reads there: the frames of a sequence share one.
+pub fn load_frame_cached(
+    path: &Path,
+    frame: Option<i64>,
+    overrides: &[Override],
+    cache: &InputCache,
+) -> Result<Loaded> {
+    load_overridden(path, frame, overrides, cache)
+        .map_err(|e| overrides::name_the_set(e, overrides))
+}
+
+/// [`load_frame_cached`] before errors are attributed.
+fn load_overridden(
+    path: &Path,
+    frame: Option<i64>,
+    overrides: &[Override],
+    cache: &InputCache,
+) -> Result<Loaded> {
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     if mitsuba::is_mitsuba(path) {
         return load_mitsuba(path, &base, frame, overrides);
     }
     let text = read_scene_text(path)?;
     let desc = parse_with_overrides(&text, path, overrides)?;
-    let (scene, warnings) = build_frame(&desc, path, &base, frame)?;
+    let (scene, warnings) = build_frame_cached(&desc, path, &base, frame, cache)?;
     let slab = slab_keys::build_slab_table(&desc, &Check::new(path))?;
     let inputs = inputs::files_read(&desc, path, frame)
         .into_iter()
@@ -456,7 +475,19 @@ pub fn build_frame(
     base: &Path,
     frame: Option<i64>,
 ) -> Result<(Scene, Vec<String>)> {
-    let check = Check::new(file);
+    build_frame_cached(desc, file, base, frame, &InputCache::new())
+}
+
+/// [`build_frame`] taking unchanged slab files from `cache` (and keeping
+/// those it reads there).
+pub fn build_frame_cached(
+    desc: &SceneDesc,
+    file: &Path,
+    base: &Path,
+    frame: Option<i64>,
+    cache: &InputCache,
+) -> Result<(Scene, Vec<String>)> {
+    let check = Check::new(file).with_key_time_origin(key_time_origin(desc, frame));
     let camera = build_camera(desc, &check)?;
     check.positive_int("integrator.spp", desc.integrator.spp)?;
     if desc.shapes.is_empty() && desc.lights.is_empty() && desc.media.is_empty() {
@@ -466,7 +497,7 @@ pub fn build_frame(
     // Checked for every command, used by `brume slab bake` (see `Loaded::slab`).
     slab_keys::build_slab_table(desc, &check)?;
     let mut settings = build_settings(desc, &check, timing.shutter)?;
-    let shapes = build_shapes::build_shapes(desc, &check, base, &timing)?;
+    let shapes = build_shapes::build_shapes(desc, &check, (base, cache), &timing)?;
     let eye = crate::math::Vec3::from_array(desc.camera.position);
     slab_keys::check_slab_use(desc, shapes.geometry.slabs(), eye, &check)?;
     let (lights, shape_lights) =
@@ -488,6 +519,15 @@ pub fn build_frame(
         aovs: build_aovs(&desc.film.aovs, &check)?,
     };
     Ok((scene, check.take_warnings()))
+}
+
+/// The time keyframe times count from: the frame number for
+/// `keyframe_time = "absolute"` (a still is frame 0), else 0.
+fn key_time_origin(desc: &SceneDesc, frame: Option<i64>) -> f32 {
+    match desc.animation.keyframe_time {
+        animation::KeyframeTime::Relative => 0.0,
+        animation::KeyframeTime::Absolute => frame.unwrap_or(0) as f32,
+    }
 }
 
 /// The frame, shutter and frame rate that resolve frame patterns and motion.

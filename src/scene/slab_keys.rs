@@ -8,7 +8,6 @@ use crate::error::Result;
 use crate::geometry::slab::{Filter, Grid, LightSlab, SlabShape};
 use crate::math::{Bounds3, Vec3};
 use std::path::Path;
-use std::sync::Arc;
 
 /// Nodes per position axis when `[slab] spatial` is not given: about one
 /// node per 5 pixels of a box filling half of a 512² view.
@@ -92,7 +91,7 @@ pub(super) fn build_slab_shape(
     shape: &ShapeDesc,
     (index, field): (u32, &str),
     check: &Check,
-    base: &Path,
+    (base, cache): (&Path, &super::InputCache),
 ) -> Result<SlabShape> {
     refuse_surface_keys(shape, field, check)?;
     let filter = match shape.filter.as_deref() {
@@ -117,10 +116,11 @@ pub(super) fn build_slab_shape(
             format!("cannot read slab file {}: {problem}", path.display()),
         ));
     }
-    let slab = LightSlab::read(&path)
+    let slab = cache
+        .slab(&path, || LightSlab::read(&path))
         .map_err(|problem| check.error(&key, format!("{} {problem}", path.display())))?;
     let to_world = shapes::build_transform(shape.transform.as_ref(), field, check)?;
-    Ok(SlabShape::new(index, Arc::new(slab), to_world, filter))
+    Ok(SlabShape::new(index, slab, to_world, filter))
 }
 
 /// Refuses a scene whose camera is inside a slab's box, or that renders

@@ -10,6 +10,9 @@ use std::path::{Path, PathBuf};
 pub(crate) struct Check {
     file: PathBuf,
     warnings: std::cell::RefCell<Vec<String>>,
+    /// The time keyframe times are measured from, in frames: the frame
+    /// number under `animation.keyframe_time = "absolute"`, else 0.
+    key_time_origin: f32,
 }
 
 impl Check {
@@ -18,7 +21,19 @@ impl Check {
         Check {
             file: file.to_path_buf(),
             warnings: Default::default(),
+            key_time_origin: 0.0,
         }
+    }
+
+    /// The same checks, with keyframe times measured from `origin` (frames).
+    pub fn with_key_time_origin(mut self, origin: f32) -> Check {
+        self.key_time_origin = origin;
+        self
+    }
+
+    /// The time keyframe times are measured from (see `with_key_time_origin`).
+    pub fn key_time_origin(&self) -> f32 {
+        self.key_time_origin
     }
 
     /// Records a warning about `field`: valid, but probably not what the user meant.

@@ -1,7 +1,9 @@
 //! `brume render --frames LIST`: a frame sequence, one scene build per frame.
 //!
 //! Each frame's scene (and so its volumes) is built, rendered, written and
-//! dropped before the next one is loaded. A stop request (Ctrl-C) saves the
+//! dropped before the next one is loaded. Inputs whose path does not depend
+//! on the frame are kept between frames while unchanged (`scene::InputCache`:
+//! a slab file is read once, each input hashed once per sequence). A stop request (Ctrl-C) saves the
 //! frame in progress as a partial image and ends the sequence; the frames
 //! already written stay. `--skip-existing` skips frames whose EXR exists and
 //! is marked complete, so an interrupted sequence resumes where it stopped.
@@ -60,10 +62,12 @@ pub fn run_frames(args: &RenderArgs) -> Result<i32> {
     }
     let (exr_pattern, png_pattern) = output_patterns(args, frames.len())?;
     check_sequence_outputs(args, frames, &exr_pattern, &png_pattern)?;
+    let cache = brume::scene::InputCache::new();
     let job = Job {
         args,
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: interrupt::flag(),
+        cache: &cache,
     };
     for (i, &frame) in frames.iter().enumerate() {
         if interrupt::requested() {
@@ -99,13 +103,16 @@ fn render_frame(job: &Job, frame: i64, exr: &Path, png: &Path) -> Result<i32> {
     let args = job.args;
     // Loading has nothing to save: a stop request while it runs exits at once.
     interrupt::saving(false);
-    let loaded = brume::scene::load_frame_with_overrides(&args.scene, Some(frame), &args.set)?;
+    let loaded = brume::scene::load_frame_cached(&args.scene, Some(frame), &args.set, job.cache)?;
     for w in &loaded.warnings {
         eprintln!("warning: frame {frame}: {w}");
     }
     let mut scene = loaded.scene;
     apply_overrides(&mut scene, args)?;
-    render_and_write(job, (&scene, Some(frame)), exr, png)
+    let code = render_and_write(job, (&scene, Some(frame)), exr, png);
+    // What this frame did not use (the files of a frame pattern) is not kept.
+    job.cache.end_frame();
+    code
 }
 
 /// The output-safety rule over the whole sequence, before frame 1: no

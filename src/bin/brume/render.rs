@@ -40,7 +40,9 @@ pub(crate) fn run_render(args: RenderArgs) -> Result<i32> {
         plan.check()?;
         warn_extensions(&exr_path, &png_path);
     }
-    let loaded = brume::scene::load_frame_with_overrides(&args.scene, None, &args.set)?;
+    // One cache for the build and the scene hash: the slab file is read once.
+    let cache = brume::scene::InputCache::new();
+    let loaded = brume::scene::load_frame_cached(&args.scene, None, &args.set, &cache)?;
     for w in &loaded.warnings {
         eprintln!("warning: {w}");
     }
@@ -56,6 +58,7 @@ pub(crate) fn run_render(args: RenderArgs) -> Result<i32> {
         args: &args,
         show: !args.quiet && std::io::stderr().is_terminal(),
         cancel: interrupt::flag(),
+        cache: &cache,
     };
     let code = render_and_write(&job, (&scene, None), &exr_path, &png_path)?;
     if let Some(dir) = &args.debug_strategies {

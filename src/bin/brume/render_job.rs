@@ -20,6 +20,9 @@ pub(crate) struct Job<'a> {
     pub(crate) args: &'a RenderArgs,
     pub(crate) show: bool,
     pub(crate) cancel: &'a AtomicBool,
+    /// Inputs kept between the scene build and the scene hash, and between
+    /// the frames of a sequence.
+    pub(crate) cache: &'a brume::scene::InputCache,
 }
 
 /// Renders one image of `scene` (a still, or the given frame) and writes its
@@ -35,11 +38,11 @@ pub(crate) fn render_and_write(
     super::mlt_cli::check(scene, args)?;
     let part =
         brume::render::split::resolve_part(w, h, scene.settings.spp, &args.split.request()?)?;
-    let scene_hash = brume::render::provenance::frame_scene_hash(
+    let scene_hash = brume::render::provenance::frame_scene_hash_cached(
         &args.scene,
         &scene.settings,
-        frame,
-        &args.set,
+        (frame, &args.set),
+        job.cache,
     )?;
     check_memory(scene, &args.scene)?;
     let options = RenderOptions {

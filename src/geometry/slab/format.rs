@@ -101,13 +101,18 @@ impl SlabHeader {
     }
 }
 
-/// A baked slab: its header and records, kept as half floats.
+/// A baked slab: its header and the file's bytes, records decoded at lookup.
+///
+/// The bytes are kept as the file holds them (header, then little-endian
+/// halves): reading a slab is one read with no decode pass, and the same
+/// bytes feed the scene hash (`file_bytes`) without a second read.
 #[derive(Debug)]
 pub struct LightSlab {
     header: SlabHeader,
     param: Param,
-    /// Six halves per record (radiance rgb, transmittance rgb), in record order.
-    data: Vec<f16>,
+    /// The whole file: the header, then six halves per record (radiance rgb,
+    /// transmittance rgb), in record order.
+    bytes: Vec<u8>,
 }
 
 impl LightSlab {
@@ -119,14 +124,15 @@ impl LightSlab {
         mut record: impl FnMut(u64) -> (Rgb, Rgb),
     ) -> (LightSlab, u64) {
         let n = header.grid.records();
-        let mut data = Vec::with_capacity(6 * n as usize);
+        let mut bytes = Vec::with_capacity(header.file_bytes() as usize);
+        bytes.extend_from_slice(&header.encode());
         let mut clamped = 0u64;
         for index in 0..n {
             let (l, t) = record(index);
             for v in l.to_array().into_iter().chain(t.to_array()) {
                 let h = f16::from_f32(v.min(f16::MAX.to_f32()));
                 clamped += u64::from(v > f16::MAX.to_f32());
-                data.push(h);
+                bytes.extend_from_slice(&h.to_le_bytes());
             }
         }
         let param = Param::new(header.bounds, header.grid);
@@ -134,7 +140,7 @@ impl LightSlab {
             LightSlab {
                 header,
                 param,
-                data,
+                bytes,
             },
             clamped,
         )
@@ -150,26 +156,25 @@ impl LightSlab {
         &self.param
     }
 
+    /// The file's bytes (header and records), as written and read.
+    pub fn file_bytes(&self) -> &[u8] {
+        &self.bytes
+    }
+
     /// Radiance and transmittance of flat record `index`, as stored.
     #[inline]
     pub fn record(&self, index: usize) -> (Rgb, Rgb) {
-        let r = &self.data[6 * index..6 * index + 6];
-        (
-            Rgb::new(r[0].to_f32(), r[1].to_f32(), r[2].to_f32()),
-            Rgb::new(r[3].to_f32(), r[4].to_f32(), r[5].to_f32()),
-        )
+        let at = HEADER_BYTES + RECORD_BYTES as usize * index;
+        let r: &[u8; RECORD_BYTES as usize] = self.bytes[at..at + RECORD_BYTES as usize]
+            .try_into()
+            .expect("12 bytes");
+        let h = |k: usize| f16::from_le_bytes([r[2 * k], r[2 * k + 1]]).to_f32();
+        (Rgb::new(h(0), h(1), h(2)), Rgb::new(h(3), h(4), h(5)))
     }
 
     /// The file's bytes: header, then the records.
     pub fn write_to(&self, out: &mut impl Write) -> std::io::Result<()> {
-        out.write_all(&self.header.encode())?;
-        let mut buf = Vec::with_capacity(1 << 16);
-        for chunk in self.data.chunks(1 << 15) {
-            buf.clear();
-            buf.extend(chunk.iter().flat_map(|h| h.to_le_bytes()));
-            out.write_all(&buf)?;
-        }
-        Ok(())
+        out.write_all(&self.bytes)
     }
 
     /// Reads the slab file at `path`; an error says what is wrong in words
@@ -194,23 +199,28 @@ impl LightSlab {
                 header.file_bytes()
             ));
         }
-        let bytes = len - HEADER_BYTES as u64;
-        crate::error::limits::check(bytes as u128).map_err(|refusal| {
+        crate::error::limits::check(len as u128).map_err(|refusal| {
             format!(
                 "needs {} of memory, {refusal}",
-                crate::error::limits::format_bytes(bytes as u128)
+                crate::error::limits::format_bytes(len as u128)
             )
         })?;
-        let mut raw = vec![0u8; bytes as usize];
-        file.read_exact(&mut raw).map_err(|e| e.to_string())?;
-        let data = raw
-            .chunks_exact(2)
-            .map(|b| f16::from_le_bytes([b[0], b[1]]))
-            .collect();
+        // Not zero-filled first: read_to_end writes into the reserved room.
+        let mut bytes = Vec::with_capacity(len as usize);
+        bytes.extend_from_slice(&h);
+        file.take(len - HEADER_BYTES as u64)
+            .read_to_end(&mut bytes)
+            .map_err(|e| e.to_string())?;
+        if bytes.len() as u64 != len {
+            return Err(format!(
+                "shrank to {} bytes while it was read (expected {len})",
+                bytes.len()
+            ));
+        }
         Ok(LightSlab {
             param: Param::new(header.bounds, header.grid),
             header,
-            data,
+            bytes,
         })
     }
 }
