@@ -47,9 +47,21 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "not supported",
     );
     refuses(
-        r#"<shape type="ply"/>"#,
+        r#"<shape type="ply"><string name="filename" value="bad.xml"/><boolean name="face_normals" value="true"/></shape>"#,
         3,
         r#"<shape type="ply">"#,
+        "face_normals",
+    );
+    refuses(
+        r#"<shape type="ply"><string name="filename" value="bad.xml"/><boolean name="flip_tex_coords" value="true"/></shape>"#,
+        3,
+        r#"<boolean name="flip_tex_coords">"#,
+        "flip_tex_coords",
+    );
+    refuses(
+        r#"<shape type="serialized"/>"#,
+        3,
+        r#"<shape type="serialized">"#,
         "not supported",
     );
     refuses(

@@ -75,6 +75,27 @@ fn includes_are_found_relative_to_the_including_file_and_path_folders_are_search
 }
 
 #[test]
+fn a_ply_shape_is_a_mesh_of_its_file_placed_by_to_world() {
+    let (_dir, path) = write(&[
+        (
+            "scene.xml",
+            &scene(
+                r#"<shape type="ply"><string name="filename" value="m.ply"/><transform name="to_world"><translate x="2"/></transform></shape>"#,
+            ),
+        ),
+        ("m.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+    ]);
+    let desc = import(&path, vec![]).unwrap_or_else(|e| panic!("{e}")).desc;
+    let mesh = &desc.shapes[0];
+    assert_eq!(mesh.kind, ShapeType::Mesh);
+    assert!(mesh.file.as_ref().unwrap().ends_with("m.ply"));
+    assert_eq!(
+        mesh.transform.as_ref().unwrap().translate,
+        Some([2.0, 0.0, 0.0])
+    );
+}
+
+#[test]
 fn transforms_compose_in_the_order_written() {
     let placed = |ops: &str| {
         let desc = load(

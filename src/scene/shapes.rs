@@ -89,7 +89,15 @@ pub(crate) fn build_shape(
                 .as_ref()
                 .ok_or_else(|| check.error(&format!("{field}.file"), "missing"))?;
             let path = resolve(base, file);
-            let mesh = load_obj(&path, &m, &format!("{field}.file"), check)?;
+            let is_ply = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+            let key = format!("{field}.file");
+            let mesh = if is_ply {
+                load_ply(&path, &m, &key, check)?
+            } else {
+                load_obj(&path, &m, &key, check)?
+            };
             return Ok(BuiltShape { keys, ..mesh });
         }
     };
@@ -274,6 +282,42 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
     Ok(BuiltShape {
         primitives: out.prims,
         texcoords: all_have_uv.then_some(out.texcoords),
+        keys: None,
+    })
+}
+
+/// Largest PLY file read (as for OBJ).
+const MAX_PLY_BYTES: u64 = MAX_OBJ_BYTES;
+
+/// Triangles of a PLY file, transformed by `m`, with its texture coordinates if it has them.
+fn load_ply(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<BuiltShape> {
+    check_input(check, field, "PLY file", path, Format::Ply, MAX_PLY_BYTES)?;
+    let bad = |message: String| check.error(field, format!("{}: {message}", path.display()));
+    let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read PLY: {e}")))?;
+    let mesh = super::ply::parse(&bytes).map_err(|e| bad(format!("cannot read PLY: {e}")))?;
+    let normal_matrix = m.matrix3.inverse().transpose();
+    let mut primitives = Vec::with_capacity(mesh.triangles.len());
+    let mut texcoords = Vec::with_capacity(mesh.triangles.len());
+    for tri in &mesh.triangles {
+        let p = tri.map(|i| m.transform_point3(mesh.positions[i as usize]));
+        if (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0 {
+            continue;
+        }
+        let n = match &mesh.normals {
+            Some(ns) => tri.map(|i| (normal_matrix * ns[i as usize]).normalize_or_zero()),
+            None => [Vec3::ZERO; 3],
+        };
+        primitives.push(Primitive::Triangle { p, n });
+        if let Some(uvs) = &mesh.uvs {
+            texcoords.push(tri.map(|i| uvs[i as usize]));
+        }
+    }
+    if primitives.is_empty() {
+        return Err(bad("holds only degenerate triangles".into()));
+    }
+    Ok(BuiltShape {
+        primitives,
+        texcoords: mesh.uvs.is_some().then_some(texcoords),
         keys: None,
     })
 }

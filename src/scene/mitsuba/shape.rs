@@ -1,4 +1,4 @@
-//! `<shape>`: sphere, cube, rectangle, disk and obj, with their BSDF, area
+//! `<shape>`: sphere, cube, rectangle, disk, obj and ply, with their BSDF, area
 //! emitter and interior/exterior media.
 
 use super::bsdf::Surface;
@@ -64,7 +64,7 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
     if flip && !matches!(kind, "rectangle" | "disk") {
         flip_closed(node, &mut desc, surface.one_sided, interior.or(exterior))?;
     }
-    if surface.one_sided && matches!(kind, "rectangle" | "disk" | "obj") {
+    if surface.one_sided && matches!(kind, "rectangle" | "disk" | "obj" | "ply") {
         ctx.warn(
             node,
             "Mitsuba's BSDF is black from behind, brume's shades both sides: \
@@ -117,23 +117,23 @@ fn geometry(ctx: &Ctx, p: &Props, kind: &str, flip: bool) -> Result<(ShapeDesc, 
             let half = DVec3::new(1.0, 1.0, 0.0);
             Some(box_bounds(&to_world, DVec3::ZERO, half))
         }
-        "obj" => {
-            obj(ctx, p, &mut desc)?;
+        "obj" | "ply" => {
+            mesh(ctx, p, &mut desc, kind)?;
             desc.transform = to_brume(&to_world, at)?;
             None
         }
         _ => {
             return Err(unsupported(
                 node,
-                "this shape (sphere, cube, rectangle, disk, obj)",
+                "this shape (sphere, cube, rectangle, disk, obj, ply)",
             ))
         }
     };
     Ok((desc, bounds))
 }
 
-/// `<shape type="obj">`: the file; face normals are refused.
-fn obj(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc) -> Result<()> {
+/// `<shape type="obj">` or `"ply"`: the file; face normals are refused.
+fn mesh(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc, kind: &str) -> Result<()> {
     let (name, file_at) = p
         .string("filename")?
         .ok_or_else(|| p.owner.error("give <string name=\"filename\">"))?;
@@ -142,10 +142,12 @@ fn obj(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc) -> Result<()> {
     if p.bool("face_normals")? == Some(true) {
         return Err(unsupported(
             p.owner,
-            "face_normals (brume shades with the OBJ's vertex normals when it has them)",
+            "face_normals (brume shades with the mesh's vertex normals when it has them)",
         ));
     }
-    p.bool("flip_tex_coords")?; // only matters to textures, which are refused
+    if kind == "obj" {
+        p.bool("flip_tex_coords")?; // only matters to textures, which are refused
+    }
     Ok(())
 }
 
