@@ -56,6 +56,11 @@ fn cases() -> Vec<(&'static str, String, &'static str)> {
         ("missing obj", with("[[shape]]\ntype = \"mesh\"\nfile = \"no_such_mesh.obj\"\n"), "no_such_mesh.obj"),
         ("zero scale", with("[[shape]]\ntype = \"sphere\"\nradius = 1.0\ntransform = { scale = 0.0 }\n"), "shape[0].transform.scale"),
         ("non-uniform sphere scale", with("[[shape]]\ntype = \"sphere\"\nradius = 1.0\ntransform = { scale = [1.0, 2.0, 1.0] }\n"), "shape[0].transform.scale"),
+        ("disk without a normal", with("[[shape]]\ntype = \"disk\"\nradius = 1.0\n"), "shape[0].normal"),
+        ("size on a disk", with("[[shape]]\ntype = \"disk\"\nnormal = [0.0,1.0,0.0]\nradius = 1.0\nsize = [1.0,1.0]\n"), "shape[0].size"),
+        ("disk u_axis along its normal", with("[[shape]]\ntype = \"disk\"\nnormal = [0.0,1.0,0.0]\nradius = 1.0\nu_axis = [0.0,2.0,0.0]\n"), "shape[0].u_axis"),
+        ("non-uniform disk scale", with("[[shape]]\ntype = \"disk\"\nnormal = [0.0,1.0,0.0]\nradius = 1.0\ntransform = { scale = [1.0, 1.0, 2.0] }\n"), "a disk needs a uniform scale"),
+        ("interior in a disk", with("[[shape]]\ntype = \"disk\"\nnormal = [0.0,1.0,0.0]\nradius = 1.0\ninterior = { type = \"homogeneous\", sigma_a = 1.0, sigma_s = 0.0 }\n"), "a disk encloses no volume"),
         ("unknown transform key", with("[[shape]]\ntype = \"sphere\"\nradius = 1.0\ntransform = { shear = 1.0 }\n"), "shear"),
     ]
 }

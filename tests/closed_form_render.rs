@@ -319,3 +319,29 @@ fn ground_under_emissive_ball_at_max_depth_one() {
         );
     }
 }
+
+/// A disk light of radiance L and radius R facing down from height h over a
+/// diffuse floor (itself a disk) of albedo ρ: with direct lighting only, the
+/// floor below the light's centre sends ρ/π · E, where the irradiance of a
+/// coaxial disk is E = π L R²/(R² + h²). Pins the disk's area (the light
+/// pdf), its uniform area sampling and its ray test (the BSDF-sampled hits
+/// MIS weighs against the light samples).
+#[test]
+fn a_disk_light_gives_its_closed_form_irradiance() {
+    let (l, r, h, rho) = (2.0, 0.5, 1.0, 0.5);
+    let text = format!(
+        "{CAMERA_OUTSIDE}{}\
+         [[shape]]\ntype = \"disk\"\ncenter = [0.0, {h:?}, 0.0]\nnormal = [0.0, -1.0, 0.0]\nradius = {r:?}\n\
+         material = {{ type = \"diffuse\", albedo = 0.0 }}\nemission = {l:?}\n\
+         [[shape]]\ntype = \"disk\"\ncenter = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 0.0]\nradius = 3.0\n\
+         material = {{ type = \"diffuse\", albedo = {rho:?} }}\n",
+        integrator(1)
+    );
+    let scene = scene_from_str(&text);
+    // From the side, under the light, to the floor point below its centre.
+    let origin = [2.0, 0.3, 0.0];
+    let ray = Ray::new(vec3(origin), vec3(normalize(sub([0.0; 3], origin))));
+    let est = estimate_ray(&scene, ray, 40_000, 3);
+    let expected = rho * l * r * r / (r * r + h * h);
+    assert_estimate(&est, [expected; 3], "floor under a disk light");
+}

@@ -26,3 +26,11 @@ fn plastic_and_thin_dielectric_render_like_their_toml_twin() {
 fn soft_spot_renders_like_its_toml_twin() {
     assert_twins("soft_spot");
 }
+
+/// `disk` shapes (a floor, a ceiling light, a light turned over by
+/// `flip_normals`) and `flip_normals` on spheres: two-sided diffuse
+/// (unchanged) and glass (its relative index inverted).
+#[test]
+fn disks_and_flipped_shapes_render_like_their_toml_twin() {
+    assert_twins("disks_flipped");
+}

@@ -47,15 +47,21 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "not supported",
     );
     refuses(
-        r#"<shape type="disk"/>"#,
-        3,
-        r#"<shape type="disk">"#,
-        "not supported",
-    );
-    refuses(
-        r#"<shape type="ply"/>"#,
+        r#"<shape type="ply"><string name="filename" value="bad.xml"/><boolean name="face_normals" value="true"/></shape>"#,
         3,
         r#"<shape type="ply">"#,
+        "face_normals",
+    );
+    refuses(
+        r#"<shape type="ply"><string name="filename" value="bad.xml"/><boolean name="flip_tex_coords" value="true"/></shape>"#,
+        3,
+        r#"<boolean name="flip_tex_coords">"#,
+        "flip_tex_coords",
+    );
+    refuses(
+        r#"<shape type="serialized"/>"#,
+        3,
+        r#"<shape type="serialized">"#,
         "not supported",
     );
     refuses(
@@ -93,6 +99,62 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         3,
         r#"<spectrum name="radiance">"#,
         "not supported",
+    );
+}
+
+/// Disks and `flip_normals` where brume would render something else than
+/// Mitsuba: an elliptic disk, and closed shapes turned inside out that emit,
+/// hold a medium or have a one-sided BSDF.
+#[test]
+fn disks_and_flipped_closed_shapes_brume_cannot_map_are_refused() {
+    refuses(
+        r#"<shape type="disk"><transform name="to_world"><scale x="2" y="1"/></transform></shape>"#,
+        3,
+        r#"<transform name="to_world">"#,
+        "an ellipse",
+    );
+    let flipped = |inner: &str| {
+        format!(
+            r#"<shape type="sphere"><boolean name="flip_normals" value="true"/>{inner}</shape>"#
+        )
+    };
+    refuses(
+        &flipped(r#"<bsdf type="diffuse"/>"#),
+        3,
+        r#"<shape type="sphere">"#,
+        "one-sided BSDF",
+    );
+    refuses(
+        &flipped(""),
+        3,
+        r#"<shape type="sphere">"#,
+        "one-sided BSDF",
+    );
+    refuses(
+        &flipped(
+            r#"<bsdf type="twosided"><bsdf type="diffuse"/></bsdf><emitter type="area"><rgb name="radiance" value="1"/></emitter>"#,
+        ),
+        3,
+        r#"<shape type="sphere">"#,
+        "emits",
+    );
+    refuses(
+        &flipped(r#"<bsdf type="null"/><medium type="homogeneous" name="interior"/>"#),
+        3,
+        r#"<shape type="sphere">"#,
+        "holding a medium",
+    );
+    refuses(
+        r#"<shape type="cube"><boolean name="flip_normals" value="true"/><bsdf type="conductor"/></shape>"#,
+        3,
+        r#"<shape type="cube">"#,
+        "one-sided BSDF",
+    );
+    refuses(
+        r#"<shape type="disk"><bsdf type="null"/><medium type="homogeneous" name="interior"/></shape>"#,
+        3,
+        r#"<shape type="disk">"#,
+        "not a closed shape",
     );
 }
 

@@ -1,7 +1,9 @@
 //! The Mitsuba 3 importer's file mechanics and unit conversions: what each
 //! element and attribute becomes in brume's scene description.
 
-use brume::scene::description::{LightDesc, MaterialDesc, MediumDesc, PhaseDesc, SceneDesc};
+use brume::scene::description::{
+    LightDesc, MaterialDesc, MediumDesc, PhaseDesc, SceneDesc, ShapeType,
+};
 use brume::scene::mitsuba::import;
 use std::path::{Path, PathBuf};
 
@@ -73,6 +75,27 @@ fn includes_are_found_relative_to_the_including_file_and_path_folders_are_search
 }
 
 #[test]
+fn a_ply_shape_is_a_mesh_of_its_file_placed_by_to_world() {
+    let (_dir, path) = write(&[
+        (
+            "scene.xml",
+            &scene(
+                r#"<shape type="ply"><string name="filename" value="m.ply"/><transform name="to_world"><translate x="2"/></transform></shape>"#,
+            ),
+        ),
+        ("m.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+    ]);
+    let desc = import(&path, vec![]).unwrap_or_else(|e| panic!("{e}")).desc;
+    let mesh = &desc.shapes[0];
+    assert_eq!(mesh.kind, ShapeType::Mesh);
+    assert!(mesh.file.as_ref().unwrap().ends_with("m.ply"));
+    assert_eq!(
+        mesh.transform.as_ref().unwrap().translate,
+        Some([2.0, 0.0, 0.0])
+    );
+}
+
+#[test]
 fn transforms_compose_in_the_order_written() {
     let placed = |ops: &str| {
         let desc = load(
@@ -124,6 +147,47 @@ fn rotations_are_right_handed_and_a_rectangle_faces_its_turned_z() {
         &[],
     );
     assert_eq!(flipped.shapes[0].normal, Some([0.0, 0.0, -1.0]));
+}
+
+#[test]
+fn a_disk_is_the_unit_disk_placed_by_to_world_and_flip_normals_turns_it_over() {
+    let desc = load(
+        r#"<shape type="disk"><transform name="to_world"><scale value="2"/><rotate y="1" angle="90"/><translate z="4"/></transform></shape>
+        <shape type="disk"><boolean name="flip_normals" value="true"/></shape>"#,
+        &[],
+    );
+    let disk = &desc.shapes[0];
+    assert_eq!(disk.kind, ShapeType::Disk);
+    assert_eq!(disk.normal, Some([1.0, 0.0, 0.0]), "+Z turned 90° about +Y");
+    assert_eq!(
+        disk.u_axis,
+        Some([0.0, 0.0, -1.0]),
+        "+X turned 90° about +Y"
+    );
+    assert_eq!(disk.radius, Some(2.0));
+    assert_eq!(disk.center, Some([0.0, 0.0, 4.0]));
+    assert_eq!(desc.shapes[1].normal, Some([0.0, 0.0, -1.0]));
+    assert_eq!(desc.shapes[1].radius, Some(1.0));
+}
+
+#[test]
+fn flipping_a_glass_sphere_inverts_its_relative_index_and_leaves_two_sided_ones_alone() {
+    let desc = load(
+        r#"<shape type="sphere"><boolean name="flip_normals" value="true"/><bsdf type="dielectric"><float name="int_ior" value="2"/><float name="ext_ior" value="1"/></bsdf></shape>
+        <shape type="sphere"><boolean name="flip_normals" value="true"/><bsdf type="thindielectric"><float name="int_ior" value="2"/><float name="ext_ior" value="1"/></bsdf></shape>
+        <shape type="cube"><boolean name="flip_normals" value="true"/><bsdf type="twosided"><bsdf type="diffuse"/></bsdf></shape>"#,
+        &[],
+    );
+    assert!(
+        matches!(desc.shapes[0].material, Some(MaterialDesc::Dielectric { ior, .. }) if ior == 0.5)
+    );
+    assert!(
+        matches!(desc.shapes[1].material, Some(MaterialDesc::ThinDielectric { ior }) if ior == 2.0)
+    );
+    assert!(matches!(
+        desc.shapes[2].material,
+        Some(MaterialDesc::Diffuse { .. })
+    ));
 }
 
 /// The camera's fov in brume's terms for `params` on a `w`×`h` film.

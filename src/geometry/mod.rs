@@ -215,14 +215,14 @@ impl Geometry {
     /// Texture coordinates of the point `p` with surface parameters `st` on primitive `primitive`.
     ///
     /// A sphere is mapped lat-long ([`sphere_uv`]), a parallelogram [0, 1]²
-    /// along its edges, a triangle by interpolating its corners' coordinates
+    /// along its edges, a disk by (r / radius, φ / 2π), a triangle by interpolating its corners' coordinates
     /// with the barycentrics.
     #[inline]
     pub fn uv(&self, primitive: u32, st: Vec2, p: Vec3) -> Vec2 {
         let i = primitive as usize;
         match self.primitives[i] {
             Primitive::Sphere { center, radius } => sphere_uv((p - center) / radius),
-            Primitive::Parallelogram { .. } => st,
+            Primitive::Parallelogram { .. } | Primitive::Disk { .. } => st,
             Primitive::Triangle { .. } => {
                 let t = self.texcoords.get(i).unwrap_or(&BARYCENTRIC_UV);
                 t[0] * (1.0 - st.x - st.y) + t[1] * st.x + t[2] * st.y

@@ -22,6 +22,17 @@ pub enum Primitive {
         /// Second edge vector.
         edge_v: Vec3,
     },
+    /// A flat disk `center + r·(cos φ·u_axis + sin φ·(normal × u_axis))`, r ≤ radius.
+    Disk {
+        /// Centre in world space.
+        center: Vec3,
+        /// Unit normal of the front side.
+        normal: Vec3,
+        /// Unit tangent where φ = 0 (perpendicular to `normal`).
+        u_axis: Vec3,
+        /// Radius (> 0).
+        radius: f32,
+    },
     /// A triangle with optional per-vertex shading normals.
     Triangle {
         /// Vertex positions.
@@ -99,7 +110,8 @@ pub struct PrimitiveHit {
     /// Unit shading normal, on the same side as the geometric normal.
     pub shading_normal: Vec3,
     /// Surface parameters of the hit: (s, t) along a parallelogram's edges,
-    /// barycentrics (b1, b2) of a triangle's second and third vertex; unused (0) on a sphere.
+    /// barycentrics (b1, b2) of a triangle's second and third vertex, (r / radius, φ / 2π)
+    /// on a disk; unused (0) on a sphere.
     pub st: Vec2,
 }
 
@@ -128,6 +140,16 @@ impl Primitive {
             } => Bounds3::new(corner, corner + edge_u)
                 .include(corner + edge_v)
                 .include(corner + edge_u + edge_v),
+            Primitive::Disk {
+                center,
+                normal,
+                radius,
+                ..
+            } => {
+                // The disk's extent along axis i is radius·sin(angle of the normal to axis i).
+                let half = (Vec3::ONE - normal * normal).max(Vec3::ZERO).sqrt() * radius;
+                Bounds3::new(center - half, center + half)
+            }
             Primitive::Triangle { p, .. } => Bounds3::new(p[0], p[1]).include(p[2]),
         }
     }
@@ -137,6 +159,7 @@ impl Primitive {
         match *self {
             Primitive::Sphere { radius, .. } => 4.0 * std::f32::consts::PI * radius * radius,
             Primitive::Parallelogram { edge_u, edge_v, .. } => edge_u.cross(edge_v).length(),
+            Primitive::Disk { radius, .. } => std::f32::consts::PI * radius * radius,
             Primitive::Triangle { p, .. } => 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length(),
         }
     }
@@ -152,6 +175,12 @@ impl Primitive {
                 edge_u,
                 edge_v,
             } => intersect_parallelogram(ray, corner, [edge_u, edge_v], t_min, t_max),
+            Primitive::Disk {
+                center,
+                normal,
+                u_axis,
+                radius,
+            } => intersect_disk(ray, center, [normal, u_axis], radius, t_min, t_max),
             Primitive::Triangle { p, n } => intersect_triangle(ray, &p, &n, t_min, t_max),
         }
     }
@@ -176,6 +205,20 @@ impl Primitive {
                 n: edge_u.cross(edge_v).normalize(),
                 st: u,
             },
+            Primitive::Disk {
+                center,
+                normal,
+                u_axis,
+                radius,
+            } => {
+                let d = warp::square_to_concentric_disk(u);
+                let v_axis = normal.cross(u_axis);
+                AreaSample {
+                    p: center + (u_axis * d.x + v_axis * d.y) * radius,
+                    n: normal,
+                    st: disk_st(d.x, d.y, 1.0),
+                }
+            }
             Primitive::Triangle { p, .. } => {
                 let b = warp::square_to_uniform_triangle(u);
                 AreaSample {
@@ -277,6 +320,48 @@ fn intersect_parallelogram(
         shading_normal: n,
         st: Vec2::new(s, r),
     })
+}
+
+/// Hit of the disk of `radius` about `center` with `[normal, u_axis]` in `(t_min, t_max)`.
+#[inline]
+fn intersect_disk(
+    ray: &Ray,
+    center: Vec3,
+    [normal, u_axis]: [Vec3; 2],
+    radius: f32,
+    t_min: f32,
+    t_max: f32,
+) -> Option<PrimitiveHit> {
+    let denom = normal.dot(ray.direction);
+    if denom == 0.0 {
+        return None;
+    }
+    let t = normal.dot(center - ray.origin) / denom;
+    if !(t > t_min && t < t_max) {
+        return None;
+    }
+    let d = ray.at(t) - center;
+    let (x, y) = (d.dot(u_axis), d.dot(normal.cross(u_axis)));
+    if x * x + y * y > radius * radius {
+        return None;
+    }
+    Some(PrimitiveHit {
+        t,
+        geometric_normal: normal,
+        shading_normal: normal,
+        st: disk_st(x, y, radius),
+    })
+}
+
+/// Polar surface parameters (r / radius, φ / 2π ∈ [0, 1)) of the in-plane point (x, y) of a disk.
+#[inline]
+fn disk_st(x: f32, y: f32, radius: f32) -> Vec2 {
+    let mut phi = y.atan2(x);
+    if phi < 0.0 {
+        phi += 2.0 * std::f32::consts::PI;
+    }
+    let r = (x * x + y * y).sqrt() / radius;
+    Vec2::new(r.min(1.0), phi * (0.5 * std::f32::consts::FRAC_1_PI))
 }
 
 /// Möller–Trumbore ray/triangle test with interpolated shading normals.
@@ -384,6 +469,29 @@ mod tests {
     }
 
     #[test]
+    fn disk_hits_inside_its_radius_with_polar_parameters() {
+        let d = Primitive::Disk {
+            center: Vec3::new(1.0, 2.0, 0.0),
+            normal: Vec3::Z,
+            u_axis: Vec3::X,
+            radius: 2.0,
+        };
+        let down = Ray::new(Vec3::new(1.0, 3.0, 4.0), -Vec3::Z);
+        let h = d.intersect(&down, 0.0, f32::INFINITY).unwrap();
+        assert!((h.t - 4.0).abs() < 1e-6);
+        assert!((h.geometric_normal - Vec3::Z).length() < 1e-6);
+        // (0, 1) from the centre: r = 1/2 of the radius, φ = 90° = a quarter turn.
+        assert!((h.st - Vec2::new(0.5, 0.25)).length() < 1e-6, "{:?}", h.st);
+        // Inside the bounding square but outside the circle.
+        let corner = Ray::new(Vec3::new(2.6, 3.6, 4.0), -Vec3::Z);
+        assert!(d.intersect(&corner, 0.0, f32::INFINITY).is_none());
+        assert!((d.area() - 4.0 * std::f32::consts::PI).abs() < 1e-5);
+        let b = d.bounds();
+        assert!((b.min - Vec3::new(-1.0, 0.0, 0.0)).length() < 1e-6);
+        assert!((b.max - Vec3::new(3.0, 4.0, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
     fn area_samples_lie_on_the_surface() {
         let mut s = crate::sampling::Sampler::from_seed(5);
         let sphere = Primitive::Sphere {
@@ -393,6 +501,19 @@ mod tests {
         for _ in 0..100 {
             let a = sphere.sample_area(s.next_2d());
             assert!(((a.p - Vec3::ONE).length() - 2.0).abs() < 1e-4);
+        }
+        let normal = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let disk = Primitive::Disk {
+            center: Vec3::ONE,
+            normal,
+            u_axis: Vec3::Z,
+            radius: 2.0,
+        };
+        for _ in 0..100 {
+            let a = disk.sample_area(s.next_2d());
+            let d = a.p - Vec3::ONE;
+            assert!(d.dot(normal).abs() < 1e-5 && d.length() <= 2.0 + 1e-5);
+            assert!((d.length() / 2.0 - a.st.x).abs() < 1e-5);
         }
     }
 }

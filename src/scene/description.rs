@@ -678,16 +678,16 @@ pub struct ShapeDesc {
     /// Centre (sphere, quad, box).
     #[serde(default)]
     pub center: Option<[f32; 3]>,
-    /// Radius (sphere).
+    /// Radius (sphere, disk).
     #[serde(default)]
     pub radius: Option<f32>,
-    /// Front-facing normal (quad).
+    /// Front-facing normal (quad, disk).
     #[serde(default)]
     pub normal: Option<[f32; 3]>,
     /// Side lengths: `[u, v]` for a quad, `[x, y, z]` for a box.
     #[serde(default)]
     pub size: Option<Vec<f32>>,
-    /// Direction of the quad's first side (default: any tangent).
+    /// Direction of the quad's first side, or of a disk's polar angle 0 (default: any tangent).
     #[serde(default)]
     pub u_axis: Option<[f32; 3]>,
     /// OBJ file, relative to the scene file (mesh).
@@ -751,6 +751,8 @@ pub enum ShapeType {
     Quad,
     /// An axis-aligned box before its transform: `center`, `size = [x, y, z]`.
     Box,
+    /// A flat disk: `center`, `normal`, `radius`, optional `u_axis` (where its polar angle starts).
+    Disk,
     /// A triangle mesh from a Wavefront OBJ `file`.
     Mesh,
     /// A baked light slab from a `.slab` `file` (`brume slab bake`).
@@ -759,14 +761,15 @@ pub enum ShapeType {
 
 impl<'de> Deserialize<'de> for ShapeType {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<ShapeType, D::Error> {
-        const KINDS: [ShapeType; 5] = [
+        const KINDS: [ShapeType; 6] = [
             ShapeType::Sphere,
             ShapeType::Quad,
             ShapeType::Box,
+            ShapeType::Disk,
             ShapeType::Mesh,
             ShapeType::Slab,
         ];
-        let i = super::messages::one_of(d, &["sphere", "quad", "box", "mesh", "slab"])?;
+        let i = super::messages::one_of(d, &["sphere", "quad", "box", "disk", "mesh", "slab"])?;
         Ok(KINDS[i])
     }
 }

@@ -21,6 +21,8 @@ pub(super) enum Format {
     Vdb,
     /// Wavefront OBJ mesh (text).
     Obj,
+    /// Stanford PLY mesh (a text header, then text or binary data).
+    Ply,
 }
 
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
@@ -38,6 +40,7 @@ impl Format {
             Format::Hdr => "a Radiance HDR image",
             Format::Vdb => "an OpenVDB file",
             Format::Obj => "a Wavefront OBJ file (text)",
+            Format::Ply => "a PLY mesh (starting with `ply`)",
         }
     }
 
@@ -61,6 +64,7 @@ impl Format {
         match self {
             // OBJ has no signature: any text that is not one of the binary formats
             Format::Obj => !head.is_empty() && Format::of(head).is_none() && !head.contains(&0),
+            Format::Ply => head.starts_with(b"ply"),
             binary => Format::of(head) == Some(binary),
         }
     }

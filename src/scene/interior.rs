@@ -221,9 +221,16 @@ fn build_mask(
             &format!("{field}.interior"),
             "a slab's box holds baked light, not a medium; bake the medium into it instead",
         )),
-        ShapeType::Quad => Err(check.error(
+        ShapeType::Quad | ShapeType::Disk => Err(check.error(
             &format!("{field}.interior"),
-            "a quad encloses no volume; an interior needs a sphere, box or closed mesh",
+            format!(
+                "a {} encloses no volume; an interior needs a sphere, box or closed mesh",
+                if shape.kind == ShapeType::Quad {
+                    "quad"
+                } else {
+                    "disk"
+                }
+            ),
         )),
     }
 }

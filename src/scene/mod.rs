@@ -22,6 +22,7 @@ pub mod mitsuba;
 mod mlt_keys;
 mod overflow;
 mod overrides;
+mod ply;
 mod shapes;
 mod slab_keys;
 mod sppm_keys;

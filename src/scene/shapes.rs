@@ -25,6 +25,7 @@ fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<
         ShapeType::Sphere => &["center", "radius"],
         ShapeType::Quad => &["center", "normal", "size", "u_axis"],
         ShapeType::Box => &["center", "size"],
+        ShapeType::Disk => &["center", "normal", "radius", "u_axis"],
         ShapeType::Mesh => &["file"],
         ShapeType::Slab => &["file", "filter"],
     };
@@ -79,6 +80,7 @@ pub(crate) fn build_shape(
         ShapeType::Sphere => vec![sphere(shape, &m, center, field, check)?],
         ShapeType::Quad => vec![quad(shape, &m, center, field, check)?],
         ShapeType::Box => box_faces(shape, &m, center, field, check)?,
+        ShapeType::Disk => vec![disk(shape, &m, center, field, check)?],
         // A slab has no primitives: it is a box answered from its file (`slab_keys`).
         ShapeType::Slab => Vec::new(),
         ShapeType::Mesh => {
@@ -87,7 +89,15 @@ pub(crate) fn build_shape(
                 .as_ref()
                 .ok_or_else(|| check.error(&format!("{field}.file"), "missing"))?;
             let path = resolve(base, file);
-            let mesh = load_obj(&path, &m, &format!("{field}.file"), check)?;
+            let is_ply = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("ply"));
+            let key = format!("{field}.file");
+            let mesh = if is_ply {
+                load_ply(&path, &m, &key, check)?
+            } else {
+                load_obj(&path, &m, &key, check)?
+            };
             return Ok(BuiltShape { keys, ..mesh });
         }
     };
@@ -134,16 +144,61 @@ fn sphere(
         &format!("{field}.radius"),
         required(shape.radius, field, "radius", check)?,
     )?;
+    Ok(Primitive::Sphere {
+        center: m.transform_point3(center),
+        radius: radius * uniform_scale(m, "sphere", field, check)?,
+    })
+}
+
+/// The scale of a transform that scales all axes alike (a sphere stays a sphere, a disk a disk).
+fn uniform_scale(m: &Affine3A, kind: &str, field: &str, check: &Check) -> Result<f32> {
     let (scale, _, _) = m.to_scale_rotation_translation();
     if (scale.max_element() - scale.min_element()).abs() > 1e-5 * scale.max_element() {
         return Err(check.error(
             &format!("{field}.transform.scale"),
-            "a sphere needs a uniform scale",
+            format!("a {kind} needs a uniform scale"),
         ));
     }
-    Ok(Primitive::Sphere {
+    Ok(scale.x)
+}
+
+/// The unit tangent `u` made perpendicular to `normal`, or any tangent when `u` is not given.
+fn tangent(u: Option<[f32; 3]>, normal: Vec3, field: &str, check: &Check) -> Result<Vec3> {
+    let Some(u) = u else {
+        return Ok(Frame::from_z(normal).x);
+    };
+    let u = check.direction(&format!("{field}.u_axis"), u)?;
+    (u - normal * u.dot(normal))
+        .try_normalize()
+        .ok_or_else(|| check.error(&format!("{field}.u_axis"), "is parallel to the normal"))
+}
+
+/// A `type = "disk"` shape; like a sphere, its transform must scale uniformly.
+fn disk(
+    shape: &ShapeDesc,
+    m: &Affine3A,
+    center: Vec3,
+    field: &str,
+    check: &Check,
+) -> Result<Primitive> {
+    let radius = check.positive(
+        &format!("{field}.radius"),
+        required(shape.radius, field, "radius", check)?,
+    )?;
+    let normal = check.direction(
+        &format!("{field}.normal"),
+        required(shape.normal, field, "normal", check)?,
+    )?;
+    let u_axis = tangent(shape.u_axis, normal, field, check)?;
+    let scale = uniform_scale(m, "disk", field, check)?;
+    // A uniform scale with a rotation keeps both unit and perpendicular once renormalised.
+    let normal = m.transform_vector3(normal).normalize();
+    let u_axis = m.transform_vector3(u_axis).normalize();
+    Ok(Primitive::Disk {
         center: m.transform_point3(center),
-        radius: radius * scale.x,
+        normal,
+        u_axis,
+        radius: radius * scale,
     })
 }
 
@@ -160,17 +215,7 @@ fn quad(
         required(shape.normal, field, "normal", check)?,
     )?;
     let s = sizes(shape, 2, field, check)?;
-    let u_dir = match shape.u_axis {
-        Some(u) => {
-            let u = check.direction(&format!("{field}.u_axis"), u)?;
-            (u - normal * u.dot(normal))
-                .try_normalize()
-                .ok_or_else(|| {
-                    check.error(&format!("{field}.u_axis"), "is parallel to the normal")
-                })?
-        }
-        None => Frame::from_z(normal).x,
-    };
+    let u_dir = tangent(shape.u_axis, normal, field, check)?;
     let v_dir = normal.cross(u_dir);
     // edge_u × edge_v must point along the normal: u × (n × u) = n.
     Ok(parallelogram(m, center, u_dir * s[0], v_dir * s[1]))
@@ -237,6 +282,42 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
     Ok(BuiltShape {
         primitives: out.prims,
         texcoords: all_have_uv.then_some(out.texcoords),
+        keys: None,
+    })
+}
+
+/// Largest PLY file read (as for OBJ).
+const MAX_PLY_BYTES: u64 = MAX_OBJ_BYTES;
+
+/// Triangles of a PLY file, transformed by `m`, with its texture coordinates if it has them.
+fn load_ply(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<BuiltShape> {
+    check_input(check, field, "PLY file", path, Format::Ply, MAX_PLY_BYTES)?;
+    let bad = |message: String| check.error(field, format!("{}: {message}", path.display()));
+    let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read PLY: {e}")))?;
+    let mesh = super::ply::parse(&bytes).map_err(|e| bad(format!("cannot read PLY: {e}")))?;
+    let normal_matrix = m.matrix3.inverse().transpose();
+    let mut primitives = Vec::with_capacity(mesh.triangles.len());
+    let mut texcoords = Vec::with_capacity(mesh.triangles.len());
+    for tri in &mesh.triangles {
+        let p = tri.map(|i| m.transform_point3(mesh.positions[i as usize]));
+        if (p[1] - p[0]).cross(p[2] - p[0]).length_squared() == 0.0 {
+            continue;
+        }
+        let n = match &mesh.normals {
+            Some(ns) => tri.map(|i| (normal_matrix * ns[i as usize]).normalize_or_zero()),
+            None => [Vec3::ZERO; 3],
+        };
+        primitives.push(Primitive::Triangle { p, n });
+        if let Some(uvs) = &mesh.uvs {
+            texcoords.push(tri.map(|i| uvs[i as usize]));
+        }
+    }
+    if primitives.is_empty() {
+        return Err(bad("holds only degenerate triangles".into()));
+    }
+    Ok(BuiltShape {
+        primitives,
+        texcoords: mesh.uvs.is_some().then_some(texcoords),
         keys: None,
     })
 }

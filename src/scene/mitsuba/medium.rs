@@ -93,10 +93,11 @@ fn check_medium_shape(
     eye: [f32; 3],
 ) -> Result<()> {
     let s = &shapes[i];
-    if s.desc.kind == crate::scene::description::ShapeType::Quad {
+    use crate::scene::description::ShapeType;
+    if matches!(s.desc.kind, ShapeType::Quad | ShapeType::Disk) {
         return Err(unsupported(
             s.node,
-            "a medium inside a rectangle (not a closed shape)",
+            "a medium inside a rectangle or disk (not a closed shape)",
         ));
     }
     if !s.transmissive {

@@ -1,4 +1,4 @@
-//! `<shape>`: sphere, cube, rectangle and obj, with their BSDF, area
+//! `<shape>`: sphere, cube, rectangle, disk, obj and ply, with their BSDF, area
 //! emitter and interior/exterior media.
 
 use super::bsdf::Surface;
@@ -32,7 +32,8 @@ pub(crate) struct Imported<'a> {
 pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
     let kind = node.required("type")?;
     let p = ctx.props(node)?;
-    let (mut desc, bounds) = geometry(ctx, &p, kind)?;
+    let flip = p.bool("flip_normals")?.unwrap_or(false);
+    let (mut desc, bounds) = geometry(ctx, &p, kind, flip)?;
     let surface = match p.object("bsdf", None) {
         Some(b) => super::bsdf::read(ctx, b)?,
         None => Surface {
@@ -58,15 +59,18 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
             .error("a shape's medium needs name=\"interior\" or name=\"exterior\""));
     }
     p.finish()?;
-    if surface.one_sided && matches!(kind, "rectangle" | "obj") {
+    let null = surface.material.is_none();
+    desc.material = surface.material;
+    if flip && !matches!(kind, "rectangle" | "disk") {
+        flip_closed(node, &mut desc, surface.one_sided, interior.or(exterior))?;
+    }
+    if surface.one_sided && matches!(kind, "rectangle" | "disk" | "obj" | "ply") {
         ctx.warn(
             node,
             "Mitsuba's BSDF is black from behind, brume's shades both sides: \
              wrap it in <bsdf type=\"twosided\"> if the back is ever seen",
         );
     }
-    let null = surface.material.is_none();
-    desc.material = surface.material;
     Ok(Imported {
         node,
         desc,
@@ -82,17 +86,10 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
 type Bounds = Option<(DVec3, DVec3)>;
 
 /// The shape's geometry and placement, by `type`.
-fn geometry(ctx: &Ctx, p: &Props, kind: &str) -> Result<(ShapeDesc, Bounds)> {
+fn geometry(ctx: &Ctx, p: &Props, kind: &str, flip: bool) -> Result<(ShapeDesc, Bounds)> {
     let node = p.owner;
     let to_world = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
     let at = p.node_of("to_world").unwrap_or(node);
-    let flip = p.bool("flip_normals")?.unwrap_or(false);
-    if flip && kind != "rectangle" {
-        return Err(unsupported(
-            node,
-            "flip_normals on this shape (rectangles only)",
-        ));
-    }
     let mut desc = blank(ShapeType::Sphere);
     let bounds = match kind {
         "sphere" => {
@@ -115,23 +112,28 @@ fn geometry(ctx: &Ctx, p: &Props, kind: &str) -> Result<(ShapeDesc, Bounds)> {
             let half = DVec3::new(1.0, 1.0, 0.0);
             Some(box_bounds(&to_world, DVec3::ZERO, half))
         }
-        "obj" => {
-            obj(ctx, p, &mut desc)?;
+        "disk" => {
+            disk(&mut desc, &to_world, flip, at)?;
+            let half = DVec3::new(1.0, 1.0, 0.0);
+            Some(box_bounds(&to_world, DVec3::ZERO, half))
+        }
+        "obj" | "ply" => {
+            mesh(ctx, p, &mut desc, kind)?;
             desc.transform = to_brume(&to_world, at)?;
             None
         }
         _ => {
             return Err(unsupported(
                 node,
-                "this shape (sphere, cube, rectangle, obj)",
+                "this shape (sphere, cube, rectangle, disk, obj, ply)",
             ))
         }
     };
     Ok((desc, bounds))
 }
 
-/// `<shape type="obj">`: the file; face normals are refused.
-fn obj(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc) -> Result<()> {
+/// `<shape type="obj">` or `"ply"`: the file; face normals are refused.
+fn mesh(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc, kind: &str) -> Result<()> {
     let (name, file_at) = p
         .string("filename")?
         .ok_or_else(|| p.owner.error("give <string name=\"filename\">"))?;
@@ -140,10 +142,12 @@ fn obj(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc) -> Result<()> {
     if p.bool("face_normals")? == Some(true) {
         return Err(unsupported(
             p.owner,
-            "face_normals (brume shades with the OBJ's vertex normals when it has them)",
+            "face_normals (brume shades with the mesh's vertex normals when it has them)",
         ));
     }
-    p.bool("flip_tex_coords")?; // only matters to textures, which are refused
+    if kind == "obj" {
+        p.bool("flip_tex_coords")?; // only matters to textures, which are refused
+    }
     Ok(())
 }
 
@@ -183,6 +187,63 @@ fn rectangle(desc: &mut ShapeDesc, m: &DMat4, flip: bool, at: &Node) -> Result<(
     desc.u_axis = Some((cols[0] / lengths.x).as_vec3().to_array());
     desc.size = Some(vec![2.0 * lengths.x as f32, 2.0 * lengths.y as f32]);
     Ok(())
+}
+
+/// Mitsuba's disk: the unit disk in the local XY plane, normal +Z, mapped by
+/// `m`, which must keep it round (equal X and Y scales) and not mirror it
+/// (brume's polar angle turns from `u_axis` toward normal × `u_axis`).
+fn disk(desc: &mut ShapeDesc, m: &DMat4, flip: bool, at: &Node) -> Result<()> {
+    let Some((cols, lengths)) = axes(m) else {
+        return Err(unsupported(at, "a disk to_world with shear"));
+    };
+    if (lengths.x - lengths.y).abs() > 1e-6 * lengths.x.max(lengths.y) {
+        return Err(unsupported(
+            at,
+            "a disk to_world scaling X and Y differently (an ellipse; brume's disk is round)",
+        ));
+    }
+    if DMat3::from_cols(cols[0], cols[1], cols[2]).determinant() < 0.0 {
+        return Err(unsupported(at, "a mirroring to_world (negative scale)"));
+    }
+    let normal = cols[0].cross(cols[1]).normalize();
+    let normal = if flip { -normal } else { normal };
+    desc.kind = ShapeType::Disk;
+    desc.center = Some(m.transform_point3(DVec3::ZERO).as_vec3().to_array());
+    desc.normal = Some(normal.as_vec3().to_array());
+    desc.u_axis = Some((cols[0] / lengths.x).as_vec3().to_array());
+    desc.radius = Some(lengths.x as f32);
+    Ok(())
+}
+
+/// `flip_normals` on a closed shape (sphere, cube, mesh): Mitsuba turns its
+/// inside out. brume's closed shapes keep their outward normals, so only what
+/// the normal does not change is accepted: a two-sided or null surface, a thin
+/// sheet, and a dielectric, whose interior index becomes the outside one
+/// (relative index 1/η); emission, media and one-sided BSDFs are refused.
+fn flip_closed(
+    node: &Node,
+    desc: &mut ShapeDesc,
+    one_sided: bool,
+    medium: Option<Obj>,
+) -> Result<()> {
+    let refuse = |why: &str| Err(unsupported(node, &format!("flip_normals on a {why}")));
+    if desc.emission.is_some() {
+        return refuse("closed shape that emits (brume's spheres, boxes and meshes emit along their own normals)");
+    }
+    if medium.is_some() {
+        return refuse("closed shape holding a medium (it would hold it outside)");
+    }
+    match &mut desc.material {
+        _ if one_sided => refuse(
+            "closed shape with a one-sided BSDF (Mitsuba shows its black back from outside; \
+             wrap the BSDF in <bsdf type=\"twosided\"> if both sides should shade)",
+        ),
+        Some(MaterialDesc::Dielectric { ior, .. }) => {
+            *ior = 1.0 / *ior;
+            Ok(())
+        }
+        _ => Ok(()),
+    }
 }
 
 /// World bounds of the local box `center ± half` mapped by `m`.
