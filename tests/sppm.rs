@@ -602,3 +602,23 @@ fn mean_radius(r1: f32, passes: u32) -> f64 {
         .sum::<f64>()
         / passes as f64
 }
+
+/// `emissive_room_furnace_surfaces` sat at −2.9 σ with its seed 7: the same
+/// render over 12 other seeds, their spread giving the standard error (it
+/// equals the pooled per-pixel one, 0.0054 per render, so the furnace's
+/// error bar is right), is 1 within the noise: the −2.9 σ was chance
+/// (docs/testing.md). The walls' edge loss (about −0.003 on wall pixels at
+/// r = 0.05, the closed form of `error_shrinks_at_the_documented_rate`) is
+/// below this noise.
+/// `cargo test --release --test sppm -- --ignored surface_furnace_over_seeds --nocapture`
+#[test]
+#[ignore]
+fn surface_furnace_over_seeds() {
+    let means = image_means(&room_scene("", 20_000, 0.05), 64, 100..112);
+    let (mean, se) = mean_and_se(&means);
+    eprintln!(
+        "room surfaces over 12 seeds: {mean:.5} ± {se:.5} (spread per render {:.5})",
+        se * 12f64.sqrt()
+    );
+    assert_within(mean, se, 1.0, 1, "sppm room furnace over 12 seeds");
+}
