@@ -430,3 +430,195 @@ fn photons_over_the_memory_limit_are_refused_naming_the_key() {
     );
     assert!(dir.path().join("fits.exr").exists());
 }
+
+/// The photons' share of a wall pixel in the sphere-less room: walls emit
+/// 0.5 and reflect half of an incident radiance of 1, of which 0.5 arrived
+/// after scattering at least once (photons' light): 0.5 · 0.5.
+const WALL_PHOTON_SHARE: f64 = 0.25;
+
+/// Half the side of the room's square walls.
+const WALL_HALF: f64 = 2.0;
+
+/// Area of the disk of radius `r` around (u, v) that lies on the wall
+/// [−2, 2]²: ∫ chord(x) dx with x = u + r sin θ (smooth at the disk's ends),
+/// by Gauss–Legendre between the angles where the chord meets a wall edge
+/// (the integrand's kinks), so the quadrature is exact to rounding.
+fn disk_on_wall(u: f64, v: f64, r: f64) -> f64 {
+    let chord = |theta: f64| {
+        let x = u + r * theta.sin();
+        if x.abs() > WALL_HALF {
+            return 0.0;
+        }
+        let h = r * theta.cos();
+        let width = ((v + h).min(WALL_HALF) - (v - h).max(-WALL_HALF)).max(0.0);
+        width * r * theta.cos()
+    };
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let mut breaks = vec![-half_pi, half_pi];
+    for edge in [-WALL_HALF, WALL_HALF] {
+        let (s, c) = ((edge - u) / r, (edge - v).abs() / r);
+        if s.abs() < 1.0 {
+            breaks.push(s.asin());
+        }
+        if c < 1.0 {
+            breaks.extend([c.acos(), -c.acos()]);
+        }
+    }
+    breaks.sort_by(f64::total_cmp);
+    breaks
+        .windows(2)
+        .map(|w| brume::sampling::quadrature::gauss_legendre(chord, w[0], w[1], 4))
+        .sum()
+}
+
+/// Where each of `rays` camera rays per pixel meets a wall, in that wall's
+/// own coordinates (the two axes along it).
+fn wall_points(scene: &Scene, rays: u32) -> Vec<(f64, f64)> {
+    let (w, h) = (scene.camera.width(), scene.camera.height());
+    let mut out = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            for s in 0..rays {
+                let mut sampler = brume::sampling::Sampler::new(99, x, y, s as u64);
+                let ray = scene.camera.sample_ray_at(x, y, 0.0, &mut sampler);
+                let hit = scene
+                    .geometry
+                    .intersect(&ray, f32::INFINITY)
+                    .expect("closed room");
+                let p = hit.p.as_dvec3().to_array();
+                let axis = (0..3)
+                    .max_by(|&a, &b| p[a].abs().total_cmp(&p[b].abs()))
+                    .unwrap();
+                out.push((p[(axis + 1) % 3], p[(axis + 2) % 3]));
+            }
+        }
+    }
+    out
+}
+
+/// The expected image mean of the sphere-less room at gather radius `r`
+/// with its standard error over the wall points: 1 − 0.25·(1 − A/(π r²)),
+/// A the part of the gather disk on the wall (photons of the neighbouring
+/// walls are not the surface's, so a disk across an edge loses its outside).
+fn room_mean_at_radius(points: &[(f64, f64)], r: f64) -> (f64, f64) {
+    let disk = std::f64::consts::PI * r * r;
+    let values: Vec<f64> = points
+        .iter()
+        .map(|&(u, v)| 1.0 - WALL_PHOTON_SHARE * (1.0 - disk_on_wall(u, v, r) / disk))
+        .collect();
+    mean_and_se(&values)
+}
+
+/// Mean and standard error of independent values.
+fn mean_and_se(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
+/// The closed form of the mean of `passes` passes from first radius `r1`:
+/// the mean over passes of [`room_mean_at_radius`] at each pass's radius
+/// (its standard error: the wall points are the same at every radius, so
+/// the errors add, not in quadrature).
+fn room_mean_over_passes(points: &[(f64, f64)], r1: f32, passes: u32) -> (f64, f64) {
+    let (mut mean, mut se) = (0.0, 0.0);
+    for pass in 0..passes {
+        let r = brume::integrator::sppm::pass_radius(r1, DEFAULT_ALPHA, pass) as f64;
+        let (m, s) = room_mean_at_radius(points, r);
+        mean += m / passes as f64;
+        se += s / passes as f64;
+    }
+    (mean, se)
+}
+
+use brume::integrator::sppm::DEFAULT_ALPHA;
+
+/// Image means (green) of `seeds` independent renders of `passes` passes.
+fn image_means(text: &str, passes: u32, seeds: std::ops::Range<u64>) -> Vec<f64> {
+    seeds
+        .map(|seed| {
+            let scene = scene_from_str(&text.replace("seed = 7", &format!("seed = {seed}")));
+            let px = pixels(&sppm_film(&scene, passes, 2));
+            px.iter().map(|p| p.mean[1]).sum::<f64>() / px.len() as f64
+        })
+        .collect()
+}
+
+/// The error shrinks as passes grow, at the rate the radius schedule sets.
+/// The emissive room without the sphere: every wall pixel's photon share
+/// (0.25) is gathered on a disk that loses its part past the wall's edges,
+/// so the image mean at radius r has the closed form 1 − 0.25·(1 − A/πr²)
+/// averaged over the camera's wall points (`room_mean_at_radius`), and the
+/// mean of N passes the average of that over the passes' radii rᵢ. The
+/// bias is of first order in r here (the disk straddles edges, docs/sppm.md),
+/// so it falls like the mean of rᵢ ∝ N^((α−1)/2), between that and N^(α−1).
+/// The renders of N and 4N passes (independent seeds, the spread of their
+/// image means giving the standard error: pixels share photons, so the
+/// pixels' own errors are not independent) must each match the closed form;
+/// the closed forms at 4N with the schedule and with the radius kept at r₁
+/// are further apart than the tolerance, so a radius that does not shrink fails.
+#[test]
+fn error_shrinks_at_the_documented_rate() {
+    let (r1, n, seeds) = (0.4f32, 4u32, 16u64);
+    let text = room_scene("", 20_000, r1)
+        .replace(WHITE_SPHERE, "")
+        .replace("resolution = [8, 8]", "resolution = [16, 16]");
+    let points = wall_points(&scene_from_str(&text), 64);
+    let mut rows = Vec::new();
+    for (passes, first_seed) in [(n, 1000u64), (4 * n, 2000)] {
+        let (got, se) = mean_and_se(&image_means(&text, passes, first_seed..first_seed + seeds));
+        let (want, want_se) = room_mean_over_passes(&points, r1, passes);
+        eprintln!(
+            "{passes} passes: image mean {got:.5} ± {se:.5} over {seeds} seeds, closed form {want:.5} ± {want_se:.5}"
+        );
+        rows.push((passes, got, se.hypot(want_se), want));
+    }
+    let bias = |row: &(u32, f64, f64, f64)| 1.0 - row.3;
+    let measured = |row: &(u32, f64, f64, f64)| 1.0 - row.1;
+    eprintln!(
+        "bias ratio 4N/N: closed form {:.4}, measured {:.4}; first order (mean rᵢ) {:.4}",
+        bias(&rows[1]) / bias(&rows[0]),
+        measured(&rows[1]) / measured(&rows[0]),
+        mean_radius(r1, 4 * n) / mean_radius(r1, n),
+    );
+    // The test has the power to see a radius that does not shrink.
+    let kept = room_mean_at_radius(&points, r1 as f64).0;
+    let tolerance = k_sigma(2) * rows[1].2;
+    assert!(
+        (kept - rows[1].3).abs() > 2.0 * tolerance,
+        "a constant radius ({kept:.5}) is within twice the tolerance ({tolerance:.5}) of the schedule's {:.5}",
+        rows[1].3
+    );
+    for (passes, got, se, want) in rows {
+        assert_within(got, se, want, 2, &format!("sppm room, {passes} passes"));
+    }
+}
+
+/// The mean gather radius of the first `passes` passes from `r1`.
+fn mean_radius(r1: f32, passes: u32) -> f64 {
+    (0..passes)
+        .map(|p| brume::integrator::sppm::pass_radius(r1, DEFAULT_ALPHA, p) as f64)
+        .sum::<f64>()
+        / passes as f64
+}
+
+/// `emissive_room_furnace_surfaces` sat at −2.9 σ with its seed 7: the same
+/// render over 12 other seeds, their spread giving the standard error (it
+/// equals the pooled per-pixel one, 0.0054 per render, so the furnace's
+/// error bar is right), is 1 within the noise: the −2.9 σ was chance
+/// (docs/testing.md). The walls' edge loss (about −0.003 on wall pixels at
+/// r = 0.05, the closed form of `error_shrinks_at_the_documented_rate`) is
+/// below this noise.
+/// `cargo test --release --test sppm -- --ignored surface_furnace_over_seeds --nocapture`
+#[test]
+#[ignore]
+fn surface_furnace_over_seeds() {
+    let means = image_means(&room_scene("", 20_000, 0.05), 64, 100..112);
+    let (mean, se) = mean_and_se(&means);
+    eprintln!(
+        "room surfaces over 12 seeds: {mean:.5} ± {se:.5} (spread per render {:.5})",
+        se * 12f64.sqrt()
+    );
+    assert_within(mean, se, 1.0, 1, "sppm room furnace over 12 seeds");
+}
