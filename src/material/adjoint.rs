@@ -5,9 +5,15 @@
 //!
 //! Every BSDF here is sampled through [`Material::sample`] with the roles of
 //! the directions swapped. Reflection is reciprocal, so its weight carries
-//! over; refraction is not: radiance crossing into a denser medium is
-//! compressed by η², so a light path leaving glass for air carries 1/η²
-//! where the path tracer's ray entering it carried η² (Veach 1997, ch. 5).
+//! over; refraction is not. A non-delta lobe's weight is the radiance
+//! BSDF of the pair as the light crosses it, f(wo, wi)·|n·wi| / pdf, and a
+//! smooth interface's refraction weight is that expression's limit:
+//! the path tracer's 1/η² times the η² of the BSDF's non-symmetry
+//! (f(a→b)/η_b² = f(b→a)/η_a², Veach 1997, ch. 5), leaving
+//! |n·wi| / |n·wo|, the ratio of the arriving and leaving cosines. (An
+//! earlier η² weight was right only where a light path crossed glass twice
+//! through parallel or spherical faces, where the cosines cancel; a lamp
+//! inside glass came out 2.8× too dark.)
 
 use super::{fresnel, relative_eta, BsdfSample, Material, Shading};
 use crate::math::color::Rgb;
@@ -31,9 +37,12 @@ impl Material {
             let crossed = sp.n.dot(s.wi) < 0.0;
             match (*self, crossed) {
                 // The smooth interface's transmission: the inverse of the path tracer's compression.
-                (Material::Dielectric { ior, .. }, true) => {
-                    let eta = relative_eta(ior, &sp);
-                    Rgb::splat(eta * eta)
+                (Material::Dielectric { .. }, true) => {
+                    let cos_out = sp.n.dot(s.wi).abs();
+                    if cos_out <= 0.0 {
+                        return None;
+                    }
+                    Rgb::splat(sp.n.dot(wi).abs() / cos_out)
                 }
                 _ => s.weight,
             }
@@ -151,9 +160,9 @@ mod tests {
         }
     }
 
-    /// Smooth glass: light leaving glass (η 1.5) for air is compressed by
-    /// 1/1.5², entering it expanded by 1.5², the inverse of the path tracer's
-    /// weights; reflection keeps its weight; lobe probabilities are F and 1 − F.
+    /// Smooth glass: light crossing into or out of glass (η 1.5) carries
+    /// cos θ (arriving) / cos θ (leaving) by Snell's law, whichever side it
+    /// comes from; reflection keeps its weight; lobe probabilities are F and 1 − F.
     #[test]
     fn smooth_glass_adjoint_weights_and_lobe_probabilities() {
         let glass = Material::Dielectric {
@@ -165,7 +174,10 @@ mod tests {
         let n = Vec3::Y;
         let inside = Vec3::new(0.3, -1.0, 0.0).normalize();
         let outside = Vec3::new(-0.3, 1.0, 0.2).normalize();
-        for (wi, expected) in [(inside, 1.0 / 2.25), (outside, 2.25)] {
+        for (wi, eta_ratio) in [(inside, 1.5f32), (outside, 1.0 / 1.5)] {
+            let cos_in = wi.y.abs();
+            let sin_out = eta_ratio * (1.0 - cos_in * cos_in).sqrt();
+            let expected = cos_in / (1.0 - sin_out * sin_out).sqrt();
             // u_lobe near 1 picks refraction (F is small at these angles).
             let a = glass
                 .sample_adjoint(n, wi, Vec2::splat(0.5), 0.999)
