@@ -224,36 +224,6 @@ fn mistakes_in_the_file_mechanics_name_their_element() {
 }
 
 #[test]
-fn media_arrangements_brume_would_render_differently_are_refused() {
-    // a sphere poking into a smoke cube without saying it is in the smoke
-    refuses(
-        r#"<medium type="homogeneous" id="m"/>
-        <shape type="cube"><transform name="to_world"><translate z="-5"/></transform><bsdf type="null"/><ref name="interior" id="m"/></shape>
-        <shape type="sphere"><point name="center" z="-4"/></shape>"#,
-        5,
-        r#"<shape type="sphere">"#,
-        "last interface crossed",
-    );
-    // camera in fog, one shape without the fog outside it
-    refuses(
-        r#"<medium type="homogeneous" id="fog"/><sensor type="perspective"><ref id="fog"/></sensor>
-        <shape type="sphere"><point name="center" z="-4"/><ref name="exterior" id="fog"/></shape>
-        <shape type="sphere"><point name="center" z="4"/></shape>"#,
-        5,
-        r#"<shape type="sphere">"#,
-        "without exterior",
-    );
-    // fog around shapes while the camera is in vacuum
-    refuses(
-        r#"<medium type="homogeneous" id="fog"/>
-        <shape type="sphere"><point name="center" z="-4"/><ref name="exterior" id="fog"/></shape>"#,
-        4,
-        r#"<ref name="exterior" id="fog">"#,
-        "sensor is in no medium",
-    );
-}
-
-#[test]
 fn includes_that_loop_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let a = write(

@@ -380,3 +380,51 @@ fn a_medium_outside_every_shape_becomes_global() {
     ));
     assert!(desc.shapes[0].interior.is_none());
 }
+
+/// Where containment and Mitsuba's rule read a scene alike it is placed by
+/// containment (no interface rule); the arrangements where they differ keep
+/// Mitsuba's rule: each medium once, unbounded, and each shape's
+/// [interior, exterior] and the sensor's medium as indices.
+#[test]
+fn arrangements_where_the_rules_differ_keep_mitsubas_interfaces() {
+    let agree = load(
+        r#"<medium type="homogeneous" id="m"/>
+        <shape type="cube"><transform name="to_world"><translate z="5"/></transform><bsdf type="null"/><ref name="interior" id="m"/></shape>"#,
+        &[],
+    );
+    assert!(agree.interfaces.is_none() && agree.shapes[0].interior.is_some());
+    // a sphere poking into a smoke cube without saying it is in the smoke
+    let poking = load(
+        r#"<medium type="homogeneous" id="m"/>
+        <shape type="cube"><transform name="to_world"><translate z="-5"/></transform><bsdf type="null"/><ref name="interior" id="m"/></shape>
+        <shape type="sphere"><point name="center" z="-4"/></shape>"#,
+        &[],
+    );
+    let rule = poking.interfaces.expect("interface rule");
+    assert_eq!(rule.shapes, vec![Some([Some(0), None]), None]);
+    assert_eq!(rule.camera, None);
+    assert!(poking.shapes.iter().all(|s| s.interior.is_none()));
+    assert!(matches!(
+        poking.media[..],
+        [MediumDesc::Homogeneous { global: true, .. }]
+    ));
+    // camera in fog, one shape without the fog outside it
+    let fog_and_vacuum = load(
+        r#"<medium type="homogeneous" id="fog"/><sensor type="perspective"><ref id="fog"/></sensor>
+        <shape type="sphere"><point name="center" z="-4"/><ref name="exterior" id="fog"/></shape>
+        <shape type="sphere"><point name="center" z="4"/></shape>"#,
+        &[],
+    );
+    let rule = fog_and_vacuum.interfaces.expect("interface rule");
+    assert_eq!(rule.shapes, vec![Some([None, Some(0)]), None]);
+    assert_eq!(rule.camera, Some(0));
+    // fog around a shape while the camera is in vacuum; a second medium inside
+    let two = load(
+        r#"<medium type="homogeneous" id="fog"/><medium type="homogeneous" id="in"/>
+        <shape type="sphere"><point name="center" z="-4"/><ref name="interior" id="in"/><ref name="exterior" id="fog"/></shape>"#,
+        &[],
+    );
+    let rule = two.interfaces.expect("interface rule");
+    assert_eq!(rule.shapes, vec![Some([Some(0), Some(1)])]);
+    assert_eq!((rule.camera, two.media.len()), (None, 2));
+}

@@ -95,6 +95,36 @@ fn shadow_ray(origin: Vec3, p: Vec3, ls: &LightSample) -> (Ray, f32) {
     (Ray::new(origin, chord / length), length * (1.0 - 1e-4))
 }
 
+/// Transmittance of the shadow ray from `vertex` (zero if a surface blocks
+/// it); under the interface rule it starts in the medium on the side the ray
+/// leaves to, from the path's `medium`.
+#[inline]
+fn shadow_transmittance(
+    scene: &Scene,
+    vertex: &Vertex,
+    (shadow, t_max): (&Ray, f32),
+    medium: Option<u32>,
+    sampler: &mut Sampler,
+) -> Rgb {
+    if let Some(interfaces) = &scene.interfaces {
+        let start = match vertex {
+            Vertex::Surface { hit, .. } => {
+                interfaces.after(hit.shape, hit.geometric_normal, shadow.direction, medium)
+            }
+            Vertex::Medium { .. } => medium,
+        };
+        return scene.interface_transmittance(interfaces, shadow, t_max, start, sampler);
+    }
+    if scene.geometry.occluded(shadow, t_max) {
+        return Rgb::BLACK;
+    }
+    if scene.media.is_empty() {
+        Rgb::WHITE
+    } else {
+        scene.transmittance(shadow, t_max, sampler)
+    }
+}
+
 /// Next-event estimation from `vertex` to one light picked by `Scene::light_pick`, at the path's `time`.
 ///
 /// Shadow rays carry the media's transmittance. The sample is MIS-weighted
@@ -102,18 +132,19 @@ fn shadow_ray(origin: Vec3, p: Vec3, ls: &LightSample) -> (Ray, f32) {
 pub(super) fn direct_light(
     scene: &Scene,
     vertex: &Vertex,
-    time: f32,
+    at: (f32, Option<u32>),
     sampler: &mut Sampler,
 ) -> Rgb {
-    direct_light_mixed(scene, vertex, time, sampler, |_, pdf| pdf)
+    direct_light_mixed(scene, vertex, at, sampler, |_, pdf| pdf)
 }
 
 /// [`direct_light`] for a vertex that samples its continuation from a
 /// mixture (path guiding): `mixture(wi, scatter_pdf)` is the density MIS weighs against.
+/// `(time, medium)`: the path's time and the medium it is in (interface rule).
 pub(super) fn direct_light_mixed(
     scene: &Scene,
     vertex: &Vertex,
-    time: f32,
+    (time, medium): (f32, Option<u32>),
     sampler: &mut Sampler,
     mixture: impl Fn(Vec3, f32) -> f32,
 ) -> Rgb {
@@ -134,14 +165,7 @@ pub(super) fn direct_light_mixed(
     }
     let (mut shadow, t_max) = shadow_ray(vertex.shadow_origin(ls.wi), p, &ls);
     shadow.time = time;
-    if scene.geometry.occluded(&shadow, t_max) {
-        return Rgb::BLACK;
-    }
-    let tr = if scene.media.is_empty() {
-        Rgb::WHITE
-    } else {
-        scene.transmittance(&shadow, t_max, sampler)
-    };
+    let tr = shadow_transmittance(scene, vertex, (&shadow, t_max), medium, sampler);
     if tr.is_black() {
         return Rgb::BLACK;
     }

@@ -13,6 +13,7 @@ mod direct;
 mod equiangular;
 pub mod estimator;
 pub mod guiding;
+pub mod interfaces;
 pub mod mlt;
 pub mod slab_record;
 pub mod sppm;
@@ -110,8 +111,10 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// How next-event estimation picks one of `lights` (by power; see `light::LightPick`).
     pub light_pick: LightPick,
-    /// All participating media (they overlap additively).
+    /// All participating media (they overlap additively, unless `interfaces` says which one a ray is in).
     pub media: Vec<Medium>,
+    /// Mitsuba's rule for the medium a ray is in (imported scenes that need it; `None`: containment).
+    pub interfaces: Option<interfaces::Interfaces>,
     /// Sampling settings.
     pub settings: Settings,
     /// AOVs to write beside the beauty (`[film] aovs`).
@@ -213,6 +216,8 @@ struct PathState<'g> {
     guide: Option<&'g Guide>,
     /// A training path's log of guided vertices, if it trains the guide.
     log: Option<&'g mut PathLog>,
+    /// The medium the current ray is in, under the interface rule (unused by containment).
+    medium: Option<u32>,
 }
 
 /// Whether a path goes on after a step.
@@ -327,6 +332,7 @@ impl<'g> PathState<'g> {
             first_segment_end,
             guide,
             log,
+            medium: scene.interfaces.as_ref().and_then(|i| i.camera),
         }
     }
 
@@ -354,7 +360,8 @@ fn trace_segment<G: Gather>(
     if let Some(crossing) = scene.geometry.slab_crossing(&path.ray, t_surface) {
         return slab_segment(scene, path, &crossing, sampler);
     }
-    if !scene.media.is_empty() {
+    let media = scene.media_along(path.medium);
+    if !media.is_empty() {
         if G::ACTIVE && !path.emission_only {
             gather.segment(
                 scene,
@@ -365,7 +372,7 @@ fn trace_segment<G: Gather>(
                 sampler,
             );
         }
-        if let Some(step) = medium_segment(scene, path, t_surface, sampler, G::ACTIVE) {
+        if let Some(step) = medium_segment(scene, media, path, t_surface, (sampler, G::ACTIVE)) {
             return step;
         }
     }
@@ -384,10 +391,28 @@ fn trace_segment<G: Gather>(
         return Step::Stop;
     };
     add_surface_emission(scene, path, &hit);
+    if let Some(interfaces) = scene.interfaces.as_ref().filter(|i| i.is_null(hit.shape)) {
+        return pass_through(interfaces, path, &hit);
+    }
     if path.emission_only {
         return Step::Stop;
     }
     surface_vertex(scene, path, &hit, sampler, gather)
+}
+
+/// A ray crossing a surfaceless shape under the interface rule: it goes on
+/// unchanged, in the medium on the side it enters (not a scattering event).
+fn pass_through(
+    interfaces: &interfaces::Interfaces,
+    path: &mut PathState,
+    hit: &SurfaceHit,
+) -> Step {
+    let dir = path.ray.direction;
+    path.medium = interfaces.after(hit.shape, hit.geometric_normal, dir, path.medium);
+    path.ray = path
+        .ray
+        .spawn(offset_origin(hit.p, hit.geometric_normal, dir), dir);
+    Step::Continue
 }
 
 /// A ray entering a baked slab: the media up to the box, then the slab's
@@ -401,8 +426,9 @@ fn slab_segment(
     crossing: &crate::geometry::slab::lookup::SlabCrossing,
     sampler: &mut Sampler,
 ) -> Step {
-    if !scene.media.is_empty() {
-        if let Some(step) = medium_segment(scene, path, crossing.t_enter, sampler, false) {
+    let media = scene.media_along(path.medium);
+    if !media.is_empty() {
+        if let Some(step) = medium_segment(scene, media, path, crossing.t_enter, (sampler, false)) {
             return step;
         }
     }
@@ -422,10 +448,10 @@ fn slab_segment(
 /// With `last_event`, a medium event is the path's last scattering event.
 fn medium_segment(
     scene: &Scene,
+    media: &[Medium],
     path: &mut PathState,
     t_surface: f32,
-    sampler: &mut Sampler,
-    last_event: bool,
+    (sampler, last_event): (&mut Sampler, bool),
 ) -> Option<Step> {
     // An equiangular sample is one more scattering event: not past the last one.
     let segment = if path.emission_only {
@@ -437,7 +463,7 @@ fn medium_segment(
         path.radiance += path.throughput * equiangular::estimate(scene, segment, sampler);
     }
     let event = sample_free_flight(
-        &scene.media,
+        media,
         &path.ray,
         t_surface,
         &mut path.throughput,
@@ -509,12 +535,14 @@ fn vertex_direct_light(
     sampler: &mut Sampler,
 ) -> Rgb {
     match mixed {
-        None => direct_light(scene, vertex, path.ray.time, sampler),
-        Some((tree, alpha)) => {
-            direct_light_mixed(scene, vertex, path.ray.time, sampler, |d, pdf| {
-                guiding::mixture_pdf(tree, alpha, d, pdf)
-            })
-        }
+        None => direct_light(scene, vertex, (path.ray.time, path.medium), sampler),
+        Some((tree, alpha)) => direct_light_mixed(
+            scene,
+            vertex,
+            (path.ray.time, path.medium),
+            sampler,
+            |d, pdf| guiding::mixture_pdf(tree, alpha, d, pdf),
+        ),
     }
 }
 
@@ -600,6 +628,9 @@ fn surface_vertex<G: Gather>(
     };
     path.throughput *= bs.weight;
     path.prev_normal = Some(shading.n);
+    if let Some(interfaces) = &scene.interfaces {
+        path.medium = interfaces.after(hit.shape, hit.geometric_normal, bs.wi, path.medium);
+    }
     if !bs.is_delta {
         path.log_vertex(hit.p, bs.wi, bs.pdf);
     }

@@ -210,6 +210,23 @@ pub struct SceneDesc {
     /// `[slab]`: the box `brume slab bake` records (see `scene::slab_keys`).
     #[serde(default)]
     pub slab: Option<SlabDesc>,
+    /// Mitsuba's interface rule for the media, set by the importer only (no TOML key).
+    #[serde(skip)]
+    pub interfaces: Option<InterfaceDesc>,
+}
+
+/// Mitsuba's rule for the medium a ray is in, which an imported scene needs
+/// where it differs from brume's containment: the medium is set by the last
+/// surface crossed, to that shape's `interior` when the ray goes against its
+/// normal, else to its `exterior`. The media are `media` (unbounded), never
+/// added together.
+#[derive(Clone, Debug, Default)]
+pub struct InterfaceDesc {
+    /// Each shape's `[interior, exterior]` as indices into `media` (`None`:
+    /// vacuum), or `None` for a shape that changes no medium.
+    pub shapes: Vec<Option<[Option<u32>; 2]>>,
+    /// The medium the sensor is in.
+    pub camera: Option<u32>,
 }
 
 /// `[slab]`: the box around the content to bake and the grid of lines recorded.

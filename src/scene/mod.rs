@@ -12,6 +12,7 @@ mod files;
 mod fog;
 pub mod input_cache;
 pub mod inputs;
+mod interfaces;
 mod interior;
 mod keyframes;
 mod lights;
@@ -504,6 +505,7 @@ pub fn build_frame_cached(
     let (lights, shape_lights) =
         build_lights(desc, &check, base, &shapes.geometry, shapes.emissions)?;
     let media = build_media(desc, &check, base, &timing, shapes.interiors)?;
+    let interfaces = interfaces::build(desc, &check, &mut settings)?;
     let light_pick = light_pick(&lights, &shapes.geometry, &camera);
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
     settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
@@ -516,6 +518,7 @@ pub fn build_frame_cached(
         lights,
         light_pick,
         media,
+        interfaces,
         settings,
         aovs: build_aovs(&desc.film.aovs, &check)?,
     };

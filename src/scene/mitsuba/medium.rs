@@ -3,14 +3,18 @@
 //! Mitsuba sets the medium a ray travels in from the interface it last
 //! crossed (a shape's `interior`/`exterior`, the sensor's medium); brume
 //! fills space by containment (a shape's `interior`, or a global medium)
-//! and adds media that overlap. The two agree for the arrangements accepted
-//! here; the others are refused, naming the shape:
+//! and adds media that overlap. Where the two agree the media are placed by
+//! containment, so the scene renders with every integrator:
 //! - one medium outside every shape (the sensor's and every shape's
 //!   exterior) becomes a global medium, with no interior media;
-//! - else media inside closed shapes (no exterior of their own), objects
-//!   inside them declaring that medium as their exterior, no other shape's
-//!   bounds overlapping a medium shape, and a camera inside one only if the
-//!   sensor names its medium.
+//! - else media inside closed see-through shapes (no exterior of their
+//!   own), objects inside them declaring that medium as their exterior, no
+//!   other shape's bounds overlapping a medium shape, and a camera inside
+//!   one only if the sensor names its medium.
+//!
+//! Any other arrangement keeps Mitsuba's rule ([`InterfaceDesc`]): each
+//! medium once, unbounded, and each shape's interior/exterior indices into
+//! them; the path tracer then carries the current medium along its rays.
 
 mod heterogeneous;
 
@@ -19,14 +23,16 @@ use super::shape::Imported;
 use super::values::{ColorParam, Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{Color, MediumDesc, PhaseDesc};
+use crate::scene::description::{Color, InterfaceDesc, MediumDesc, PhaseDesc};
 
 /// Where the imported media go.
 pub(crate) struct Placed<'a> {
-    /// Each shape's interior medium, in shape order.
+    /// Each shape's interior medium, in shape order (containment only).
     pub interiors: Vec<Option<MediumDesc>>,
-    /// A medium filling space, with its element.
-    pub global: Option<(MediumDesc, &'a Node)>,
+    /// The media filling space (`[[medium]]` entries), each with its element.
+    pub media: Vec<(MediumDesc, &'a Node)>,
+    /// Mitsuba's interface rule, where containment would render differently.
+    pub interfaces: Option<InterfaceDesc>,
 }
 
 /// Identity of a medium: the element itself (a `<ref>` resolves to it).
@@ -51,143 +57,136 @@ pub(crate) fn place<'a>(
         .chain(sensor)
         .filter(|m| !interior_keys.contains(&key(m)))
         .collect();
-    if let Some(second) = outside.iter().find(|m| key(m) != key(&outside[0])) {
-        return Err(unsupported(
-            second.at,
-            "two different media outside shapes (brume's global medium is one)",
-        ));
-    }
-    if let Some(global) = outside.first() {
-        return place_global(ctx, shapes, sensor, *global);
-    }
-    for s in shapes {
-        if s.null && s.interior.is_none() {
-            return Err(unsupported(
-                s.node,
-                "a null surface with no medium inside (it is invisible)",
-            ));
+    let one_outside = outside.iter().all(|m| key(m) == key(&outside[0]));
+    match outside.first() {
+        Some(global) if one_outside && global_agrees(shapes, sensor, *global) => {
+            place_global(ctx, shapes, *global)
         }
+        None if interiors_agree(shapes, sensor, eye) => place_interiors(ctx, shapes),
+        _ => place_interfaces(ctx, shapes, sensor),
     }
+}
+
+/// Media inside shapes only: each shape's interior by containment.
+fn place_interiors<'a>(ctx: &Ctx<'a>, shapes: &[Imported<'a>]) -> Result<Placed<'a>> {
     let mut interiors = Vec::new();
-    for (i, s) in shapes.iter().enumerate() {
-        let Some(m) = s.interior else {
-            interiors.push(None);
-            continue;
-        };
-        check_medium_shape(shapes, i, &m, sensor, eye)?;
-        interiors.push(Some(read(ctx, m.node)?));
+    for s in shapes {
+        interiors.push(match s.interior {
+            Some(m) => Some(read(ctx, m.node)?),
+            None => None,
+        });
     }
     Ok(Placed {
         interiors,
-        global: None,
+        media: Vec::new(),
+        interfaces: None,
     })
 }
 
-/// A medium shape: closed, no exterior medium, nothing overlapping it that
-/// does not live in its medium, the camera inside only if the sensor says so.
-fn check_medium_shape(
+/// True when containment and Mitsuba's rule agree for media inside shapes:
+/// no invisible null shape, and every medium shape passes [`medium_shape_agrees`].
+fn interiors_agree(shapes: &[Imported], sensor: Option<Obj>, eye: [f32; 3]) -> bool {
+    shapes.iter().enumerate().all(|(i, s)| match s.interior {
+        None => !s.null,
+        Some(m) => medium_shape_agrees(shapes, i, &m, sensor, eye),
+    })
+}
+
+/// A medium shape both rules read alike: closed, see-through, no exterior
+/// medium, nothing overlapping it that does not live in its medium, the
+/// camera inside only if the sensor says so.
+fn medium_shape_agrees(
     shapes: &[Imported],
     i: usize,
     m: &Obj,
     sensor: Option<Obj>,
     eye: [f32; 3],
-) -> Result<()> {
+) -> bool {
     let s = &shapes[i];
     use crate::scene::description::ShapeType;
-    if matches!(s.desc.kind, ShapeType::Quad | ShapeType::Disk) {
-        return Err(unsupported(
-            s.node,
-            "a medium inside a rectangle or disk (not a closed shape)",
-        ));
-    }
-    if !s.transmissive {
-        return Err(unsupported(
-            s.node,
-            "a medium inside an opaque shape (light never reaches it)",
-        ));
-    }
-    if s.exterior.is_some() {
-        return Err(unsupported(
-            s.node,
-            "a medium shape with its own exterior medium (nested media add in brume)",
-        ));
+    let closed = !matches!(s.desc.kind, ShapeType::Quad | ShapeType::Disk);
+    if !closed || !s.transmissive || s.exterior.is_some() {
+        return false;
     }
     let Some((lo, hi)) = s.bounds else {
-        return Ok(()); // OBJ bounds are not known before the mesh is read
+        return true; // OBJ bounds are not known before the mesh is read
     };
-    for (j, other) in shapes.iter().enumerate() {
+    let overlapped = shapes.iter().enumerate().any(|(j, other)| {
         let Some((olo, ohi)) = other.bounds else {
-            continue;
+            return false;
         };
         let overlap = (0..3).all(|a| olo[a] < hi[a] && lo[a] < ohi[a]);
-        if j != i && overlap && other.exterior.map(|e| key(&e)) != Some(key(m)) {
-            return Err(unsupported(
-                other.node,
-                &format!(
-                    "a shape overlapping the medium shape at line {} without naming that medium \
-                     as its exterior (Mitsuba's medium follows the last interface crossed, \
-                     brume's the shapes that contain the point)",
-                    s.node.line
-                ),
-            ));
-        }
-    }
+        j != i && overlap && other.exterior.map(|e| key(&e)) != Some(key(m))
+    });
     let inside = (0..3).all(|a| lo[a] < eye[a] as f64 && (eye[a] as f64) < hi[a]);
-    if inside && sensor.map(|e| key(&e)) != Some(key(m)) {
-        return Err(unsupported(
-            s.node,
-            "the camera is inside this medium shape but the sensor does not name its medium",
-        ));
-    }
-    Ok(())
+    !overlapped && (!inside || sensor.map(|e| key(&e)) == Some(key(m)))
 }
 
-/// One medium around everything: every shape must have it outside, and
-/// inside too if light passes through the surface.
-fn place_global<'a>(
-    ctx: &Ctx<'a>,
-    shapes: &[Imported<'a>],
-    sensor: Option<Obj<'a>>,
-    global: Obj<'a>,
-) -> Result<Placed<'a>> {
+/// True when one medium around everything reads alike under both rules:
+/// the sensor is in it, every shape has it outside, and inside too if light
+/// passes through the surface (and no other medium inside).
+fn global_agrees(shapes: &[Imported], sensor: Option<Obj>, global: Obj) -> bool {
     let same = |m: Option<Obj>| m.map(|m| key(&m)) == Some(key(&global));
-    let what = global.node.what();
-    if !same(sensor) {
-        return Err(unsupported(
-            global.at,
-            &format!("{what} outside shapes while the sensor is in no medium"),
-        ));
-    }
-    for s in shapes {
-        if !same(s.exterior) {
-            return Err(unsupported(
-                s.node,
-                &format!("a shape without exterior {what} while the camera is in it (Mitsuba would leave the medium at this surface)"),
-            ));
-        }
-        if s.interior.is_some() && !same(s.interior) {
-            return Err(unsupported(s.node, "a medium inside a shape that is itself inside a global medium (brume adds overlapping media)"));
-        }
-        if s.transmissive && !same(s.interior) {
-            return Err(unsupported(
-                s.node,
-                &format!("a see-through shape in {what} without it inside too"),
-            ));
-        }
-        if s.null {
-            return Err(unsupported(
-                s.node,
-                "a null shape inside the global medium (it changes nothing: remove it)",
-            ));
-        }
-    }
-    let mut medium = read(ctx, global.node)?;
+    same(sensor)
+        && shapes.iter().all(|s| {
+            same(s.exterior)
+                && (s.interior.is_none() || same(s.interior))
+                && (!s.transmissive || same(s.interior))
+                && !s.null
+        })
+}
+
+/// One medium around everything, as brume's global medium.
+fn place_global<'a>(ctx: &Ctx<'a>, shapes: &[Imported<'a>], global: Obj<'a>) -> Result<Placed<'a>> {
+    Ok(Placed {
+        interiors: shapes.iter().map(|_| None).collect(),
+        media: vec![(unbounded(ctx, global.node)?, global.node)],
+        interfaces: None,
+    })
+}
+
+/// A medium filling space: a homogeneous one made global (a grid stays in its box).
+fn unbounded(ctx: &Ctx, node: &Node) -> Result<MediumDesc> {
+    let mut medium = read(ctx, node)?;
     if let MediumDesc::Homogeneous { global: g, .. } = &mut medium {
         *g = true;
     }
+    Ok(medium)
+}
+
+/// Mitsuba's rule kept: every medium once, unbounded, and each shape's
+/// interior and exterior (and the sensor's medium) as indices into them.
+fn place_interfaces<'a>(
+    ctx: &Ctx<'a>,
+    shapes: &[Imported<'a>],
+    sensor: Option<Obj<'a>>,
+) -> Result<Placed<'a>> {
+    let mut media: Vec<(MediumDesc, &'a Node)> = Vec::new();
+    let mut index = |m: Option<Obj<'a>>| -> Result<Option<u32>> {
+        let Some(m) = m else {
+            return Ok(None);
+        };
+        if let Some(i) = media.iter().position(|(_, n)| std::ptr::eq(*n, m.node)) {
+            return Ok(Some(i as u32));
+        }
+        media.push((unbounded(ctx, m.node)?, m.node));
+        Ok(Some(media.len() as u32 - 1))
+    };
+    let camera = index(sensor)?;
+    let mut sides = Vec::new();
+    for s in shapes {
+        sides.push(match (s.interior, s.exterior) {
+            (None, None) => None,
+            (interior, exterior) => Some([index(interior)?, index(exterior)?]),
+        });
+    }
     Ok(Placed {
         interiors: shapes.iter().map(|_| None).collect(),
-        global: Some((medium, global.node)),
+        media,
+        interfaces: Some(InterfaceDesc {
+            shapes: sides,
+            camera,
+        }),
     })
 }
 

@@ -223,8 +223,8 @@ impl<'a> Builder<'a> {
             trace.origin(&format!("light[{i}]"), node, true);
             lights.push(light);
         }
-        if let Some((_, node)) = &media.global {
-            trace.origin("medium[0]", node, true);
+        for (i, (_, node)) in media.media.iter().enumerate() {
+            trace.origin(&format!("medium[{i}]"), node, true);
         }
         let Trace { origins, summary } = trace;
         let desc = SceneDesc {
@@ -232,11 +232,12 @@ impl<'a> Builder<'a> {
             integrator,
             lights,
             shapes,
-            media: media.global.into_iter().map(|(m, _)| m).collect(),
+            media: media.media.into_iter().map(|(m, _)| m).collect(),
             media_key: "medium",
             animation: Default::default(),
             film: FilmDesc::default(),
             slab: None,
+            interfaces: media.interfaces,
         };
         Ok(Imported {
             desc,
