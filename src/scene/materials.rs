@@ -172,9 +172,23 @@ pub(super) fn material(
             specular,
             ior,
             nonlinear,
+            alpha,
+            distribution,
         } => {
             let diffuse = color("diffuse", diffuse)?;
-            plastic(check, field, diffuse, *specular, *ior, *nonlinear)?
+            // Mitsuba's roughplastic is single scattering only; there is no compensation key.
+            let rough = Rough {
+                alpha: *alpha,
+                distribution: *distribution,
+                multiscatter: false,
+            };
+            let coating = Coating {
+                specular: *specular,
+                ior: *ior,
+                nonlinear: *nonlinear,
+                rough,
+            };
+            plastic(check, field, diffuse, coating)?
         }
     })
 }
@@ -185,23 +199,35 @@ pub(super) fn thin_dielectric(check: &Check, field: &str, ior: f32) -> Result<Ma
     Ok(Material::ThinDielectric { ior })
 }
 
-/// `{ type = "plastic", diffuse, specular, ior, nonlinear }`; `diffuse` was
-/// checked (as a reflectance or texture) by the caller.
+/// The coating keys of a plastic as written.
+pub(super) struct Coating {
+    /// `specular` (default 1).
+    pub specular: Color,
+    /// `ior` of the coating.
+    pub ior: f32,
+    /// `nonlinear` (default false).
+    pub nonlinear: bool,
+    /// `alpha` (0: smooth) and `distribution` (default GGX).
+    pub rough: Rough,
+}
+
+/// `{ type = "plastic", diffuse, specular, ior, nonlinear, alpha, distribution }`;
+/// `diffuse` was checked (as a reflectance or texture) by the caller.
 pub(super) fn plastic(
     check: &Check,
     field: &str,
     diffuse: Rgb,
-    specular: Color,
-    ior: f32,
-    nonlinear: bool,
+    coating: Coating,
 ) -> Result<Material> {
-    let ior = check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?;
+    let ior = check.range(&format!("{field}.ior"), coating.ior, 0.0, 10.0, false)?;
     Ok(Material::Plastic(Plastic {
         diffuse,
-        specular: check.albedo(&format!("{field}.specular"), specular)?,
+        specular: check.albedo(&format!("{field}.specular"), coating.specular)?,
         ior,
         fdr_int: diffuse_fresnel(1.0 / ior),
-        nonlinear,
+        nonlinear: coating.nonlinear,
+        alpha: alpha(check, &format!("{field}.alpha"), coating.rough.alpha)?,
+        distribution: coating.rough.distribution(check, field)?,
     }))
 }
 
