@@ -4,8 +4,9 @@
 
 mod analytic_support;
 
+use analytic_support::common::stats::tolerance;
 use analytic_support::lobes::{self, direction};
-use analytic_support::{assert_estimate, estimate, Estimate};
+use analytic_support::{assert_same, estimate, k_sigma, Estimate};
 use brume::material::layered::{diffuse_fresnel, Plastic};
 use brume::material::{Distribution, Material, Shading};
 use brume::math::color::Rgb;
@@ -54,6 +55,60 @@ fn rough_plastic_sampling_follows_its_combined_pdf() {
                     "{d:?} α {alpha} θ {theta}: {r}"
                 );
             }
+        }
+    }
+}
+
+/// White bases: 2 distributions × 3 roughnesses × 3 angles × 2 `nonlinear`.
+const WHITE_FAMILY: usize = 36 * 3;
+
+#[test]
+fn a_white_rough_plastic_reflects_at_most_everything() {
+    // The diffuse share alone is exactly 1 − F(θo) for a white base (the
+    // smooth plastic's identity η²(1 − F_dr,int) = 1 − F_dr,ext); the rough
+    // specular lobe must not add more than the F(θo) it leaves.
+    let k = k_sigma(WHITE_FAMILY);
+    let mut seed = 100;
+    for d in [Distribution::Beckmann, Distribution::Ggx] {
+        for alpha in [0.05f32, 0.3, 0.8] {
+            for theta in [0.0f32, 50.0, 85.0] {
+                for nonlinear in [false, true] {
+                    seed += 1;
+                    let m = rough_plastic(Rgb::WHITE, 1.5, nonlinear, alpha, d);
+                    let est = albedo(m, direction(theta), seed);
+                    for c in 0..3 {
+                        let (mean, se) = (est.mean[c], est.std_error[c]);
+                        assert!(
+                            mean - 1.0 <= tolerance(se, 1.0, k),
+                            "{d:?} α {alpha} θ {theta} nonlinear {nonlinear}: albedo {mean} ± {se} exceeds 1"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_small_alpha_coating_reflects_like_the_smooth_one() {
+    // At α = 0.002 the microfacet lobe is all but the mirror: the albedo of
+    // a coloured rough plastic equals the smooth plastic's.
+    let base = Rgb::new(0.2, 0.5, 0.9);
+    let mut seed = 300;
+    for d in [Distribution::Beckmann, Distribution::Ggx] {
+        for theta in [0.0f32, 60.0, 80.0] {
+            seed += 1;
+            let rough = albedo(
+                rough_plastic(base, 1.5, true, 0.002, d),
+                direction(theta),
+                seed,
+            );
+            let smooth = albedo(
+                rough_plastic(base, 1.5, true, 0.0, d),
+                direction(theta),
+                seed + 50,
+            );
+            assert_same(&rough, &smooth, &format!("{d:?} θ {theta}"));
         }
     }
 }
