@@ -112,3 +112,54 @@ fn a_small_alpha_coating_reflects_like_the_smooth_one() {
         }
     }
 }
+
+fn build_error(scene: &str) -> String {
+    let file = std::path::Path::new("mat.toml");
+    match brume::scene::parse(scene, file) {
+        Ok(desc) => brume::scene::build(&desc, file, std::path::Path::new("."))
+            .err()
+            .unwrap_or_else(|| panic!("accepted: {scene}"))
+            .to_string(),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn a_bad_roughness_and_other_estimators_are_refused_by_key() {
+    let sphere = |material: &str, integrator: &str| {
+        analytic_support::SceneText::furnace_view(4)
+            .environment(1.0)
+            .unit_sphere(material)
+            .integrator(&format!("type = \"{integrator}\""))
+            .build()
+    };
+    let rough = r#"{ type = "plastic", alpha = 0.2, distribution = "beckmann" }"#;
+    let only_path = "shape[0].material: `plastic` is supported by the path tracer only";
+    for (material, integrator, want) in [
+        (
+            r#"{ type = "plastic", alpha = 1.5 }"#,
+            "path",
+            "shape[0].material.alpha: must be 0 (smooth) or between",
+        ),
+        (
+            r#"{ type = "plastic", alpha = 0.2, distribution = "phong" }"#,
+            "path",
+            "shape[0].material.distribution",
+        ),
+        (rough, "bdpt", only_path),
+        (rough, "mlt", only_path),
+        (rough, "sppm", only_path),
+    ] {
+        let err = build_error(&sphere(material, integrator));
+        assert!(err.contains(want), "{material}: want `{want}`, got `{err}`");
+        assert!(!err.contains('\n'), "{err}");
+    }
+    // The same rough plastic builds under the path tracer.
+    let desc = brume::scene::parse(&sphere(rough, "path"), std::path::Path::new("m.toml")).unwrap();
+    assert!(brume::scene::build(
+        &desc,
+        std::path::Path::new("m.toml"),
+        std::path::Path::new(".")
+    )
+    .is_ok());
+}
