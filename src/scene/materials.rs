@@ -33,6 +33,15 @@ pub(super) struct Rough {
 }
 
 impl Rough {
+    /// The keys as written.
+    pub(super) fn of(alpha: f32, distribution: MicrofacetDesc, multiscatter: bool) -> Rough {
+        Rough {
+            alpha,
+            distribution,
+            multiscatter,
+        }
+    }
+
     /// The distribution, refusing energy compensation where brume has no
     /// albedo table for it (Beckmann): the user chooses single scattering.
     fn distribution(&self, check: &Check, field: &str) -> Result<Distribution> {
@@ -143,11 +152,7 @@ pub(super) fn material(
             distribution,
             multiscatter,
         } => {
-            let rough = Rough {
-                alpha: *alpha,
-                distribution: *distribution,
-                multiscatter: *multiscatter,
-            };
+            let rough = Rough::of(*alpha, *distribution, *multiscatter);
             dielectric(check, field, *ior, rough)?
         }
         MaterialDesc::Conductor {
@@ -159,11 +164,7 @@ pub(super) fn material(
             multiscatter,
         } => {
             let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
-            let rough = Rough {
-                alpha: *alpha,
-                distribution: *distribution,
-                multiscatter: *multiscatter,
-            };
+            let rough = Rough::of(*alpha, *distribution, *multiscatter);
             conductor(check, field, rough, *eta, *k, f0)?
         }
         MaterialDesc::ThinDielectric { ior } => thin_dielectric(check, field, *ior)?,
@@ -175,20 +176,16 @@ pub(super) fn material(
             alpha,
             distribution,
         } => {
-            let diffuse = color("diffuse", diffuse)?;
             // Mitsuba's roughplastic is single scattering only; there is no compensation key.
-            let rough = Rough {
-                alpha: *alpha,
-                distribution: *distribution,
-                multiscatter: false,
-            };
+            let rough = Rough::of(*alpha, *distribution, false);
+            let (specular, ior, nonlinear) = (*specular, *ior, *nonlinear);
             let coating = Coating {
-                specular: *specular,
-                ior: *ior,
-                nonlinear: *nonlinear,
+                specular,
+                ior,
+                nonlinear,
                 rough,
             };
-            plastic(check, field, diffuse, coating)?
+            plastic(check, field, color("diffuse", diffuse)?, coating)?
         }
     })
 }
