@@ -8,7 +8,7 @@ mod analytic_support;
 use analytic_support::common::{assert_pixels_equal, estimate_pixels};
 use analytic_support::{assert_estimate, estimate, scene_from_str};
 use brume::material::layered::{diffuse_fresnel, Plastic};
-use brume::material::{Material, Shading};
+use brume::material::{Distribution, Material, Shading};
 use brume::math::color::Rgb;
 use brume::math::Vec3;
 use brume::sampling::quadrature::gauss_legendre;
@@ -42,6 +42,8 @@ fn plastic(diffuse: Rgb, specular: Rgb, ior: f32, nonlinear: bool) -> Material {
         ior,
         fdr_int: diffuse_fresnel(1.0 / ior),
         nonlinear,
+        alpha: 0.0,
+        distribution: Distribution::Ggx,
     })
 }
 

@@ -41,9 +41,9 @@ fn refuses(body: &str, line: u32, element: &str, words: &str) {
 fn elements_outside_the_subset_are_refused_by_element_and_line() {
     refuses(
         r#"<shape type="sphere">
-        <bsdf type="roughplastic"/></shape>"#,
+        <bsdf type="pplastic"/></shape>"#,
         4,
-        r#"<bsdf type="roughplastic">"#,
+        r#"<bsdf type="pplastic">"#,
         "not supported",
     );
     refuses(
@@ -249,7 +249,7 @@ fn includes_that_loop_are_refused() {
 #[test]
 fn the_command_line_prints_one_line_and_exits_with_2() {
     let dir = tempfile::tempdir().unwrap();
-    write(&dir, "s.xml", &format!("<scene version=\"3.0.0\">{SENSOR}\n<shape type=\"sphere\"><bsdf type=\"roughplastic\"/></shape></scene>"));
+    write(&dir, "s.xml", &format!("<scene version=\"3.0.0\">{SENSOR}\n<shape type=\"sphere\"><bsdf type=\"pplastic\"/></shape></scene>"));
     let out = assert_cmd::Command::cargo_bin("brume")
         .unwrap()
         .current_dir(dir.path())
@@ -260,7 +260,7 @@ fn the_command_line_prints_one_line_and_exits_with_2() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     assert!(
-        stderr.contains("s.xml:2: <bsdf type=\"roughplastic\">"),
+        stderr.contains("s.xml:2: <bsdf type=\"pplastic\">"),
         "{stderr}"
     );
     assert!(!dir.path().join("o.exr").exists());

@@ -2,7 +2,8 @@
 //! element and attribute becomes in brume's scene description.
 
 use brume::scene::description::{
-    LightDesc, MaterialDesc, MediumDesc, PhaseDesc, SceneDesc, ShapeType,
+    ColorOrTexture, LightDesc, MaterialDesc, MediumDesc, MicrofacetDesc, PhaseDesc, SceneDesc,
+    ShapeType,
 };
 use brume::scene::mitsuba::import;
 use std::path::{Path, PathBuf};
@@ -427,4 +428,82 @@ fn arrangements_where_the_rules_differ_keep_mitsubas_interfaces() {
     let rule = two.interfaces.expect("interface rule");
     assert_eq!(rule.shapes, vec![Some([Some(0), Some(1)])]);
     assert_eq!((rule.camera, two.media.len()), (None, 2));
+}
+
+#[test]
+fn roughplastic_maps_onto_a_rough_plastic_and_refuses_a_tinted_coating() {
+    let desc = load(
+        r#"<shape type="sphere"><bsdf type="roughplastic"/></shape>
+        <shape type="sphere"><bsdf type="roughplastic"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/><float name="int_ior" value="1.6"/><float name="ext_ior" value="1.2"/><rgb name="diffuse_reflectance" value="0.1, 0.2, 0.3"/><rgb name="specular_reflectance" value="1, 1, 1"/><boolean name="nonlinear" value="true"/></bsdf></shape>"#,
+        &[],
+    );
+    // Mitsuba's defaults: beckmann, α 0.1, polypropylene in air, grey 0.5, linear.
+    let Some(MaterialDesc::Plastic {
+        diffuse,
+        specular,
+        ior,
+        nonlinear,
+        alpha,
+        distribution,
+    }) = &desc.shapes[0].material
+    else {
+        panic!("{:?}", desc.shapes[0].material)
+    };
+    assert_eq!(
+        (*alpha, *distribution, *nonlinear),
+        (0.1, MicrofacetDesc::Beckmann, false)
+    );
+    assert!((ior - (1.49 / 1.000277) as f32).abs() < 1e-6, "{ior}");
+    assert_eq!(specular.0, [1.0; 3]);
+    assert!(matches!(diffuse, ColorOrTexture::Color(c) if c.0 == [0.5; 3]));
+    let Some(MaterialDesc::Plastic {
+        diffuse,
+        ior,
+        nonlinear,
+        alpha,
+        distribution,
+        ..
+    }) = &desc.shapes[1].material
+    else {
+        panic!("{:?}", desc.shapes[1].material)
+    };
+    assert_eq!(
+        (*alpha, *distribution, *nonlinear),
+        (0.3, MicrofacetDesc::Ggx, true)
+    );
+    assert!((ior - 1.6 / 1.2).abs() < 1e-6, "{ior}");
+    assert!(matches!(diffuse, ColorOrTexture::Color(c) if c.0 == [0.1, 0.2, 0.3]));
+    // A smooth plastic stays smooth.
+    let smooth = load(
+        r#"<shape type="sphere"><bsdf type="plastic"/></shape>"#,
+        &[],
+    );
+    assert!(
+        matches!(smooth.shapes[0].material, Some(MaterialDesc::Plastic { alpha, .. }) if alpha == 0.0)
+    );
+    for (bsdf, words) in [
+        (
+            r#"<rgb name="specular_reflectance" value="0.5, 1, 1"/>"#,
+            "specular_reflectance other than 1",
+        ),
+        (
+            r#"<string name="distribution" value="phong"/>"#,
+            "microfacet distribution",
+        ),
+        (
+            r#"<float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.3"/>"#,
+            "anisotropic",
+        ),
+        (r#"<float name="alpha" value="0"/>"#, "must be positive"),
+    ] {
+        let body =
+            format!(r#"<shape type="sphere"><bsdf type="roughplastic">{bsdf}</bsdf></shape>"#);
+        let (_dir, path) = write(&[("scene.xml", &scene(&body))]);
+        let err = import(&path, Default::default())
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(err.contains(words), "want `{words}` in `{err}`");
+        assert!(!err.contains('\n'), "{err}");
+    }
 }

@@ -10,8 +10,15 @@
 //! series of bounces off a base of albedo ρ) or ρ / (1 − F_dr) (the linear
 //! default). A white base (ρ = 1) conserves energy exactly, because
 //! η² (1 − F_dr,int) = 1 − F_dr,ext.
+//!
+//! A rough coating (α > 0, Mitsuba's `roughplastic`) replaces the delta
+//! reflection by a microfacet lobe ([`super::rough_plastic`]); the lobe is
+//! chosen with the same probability as the smooth one's, and the sample's
+//! density is the two lobes' combined so that MIS sees one BSDF.
 
-use super::{fresnel, BsdfSample, Shading};
+use super::microfacet::Distribution;
+use super::rough_plastic::Coating;
+use super::{fresnel, BsdfSample, Shading, MIN_ALPHA};
 use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
 use crate::sampling::quadrature::gauss_legendre;
@@ -31,6 +38,10 @@ pub struct Plastic {
     pub fdr_int: f32,
     /// ρ / (1 − F_dr ρ) instead of ρ / (1 − F_dr).
     pub nonlinear: bool,
+    /// Microfacet α of the coating; below [`MIN_ALPHA`] it is smooth (a delta reflection).
+    pub alpha: f32,
+    /// The microfacet distribution of a rough coating.
+    pub distribution: Distribution,
 }
 
 /// Cosine-weighted hemispherical average of the Fresnel reflectance for
@@ -79,17 +90,41 @@ impl Plastic {
         let f_o = fresnel::dielectric(cos_o, self.ior);
         let f_i = fresnel::dielectric(cos_i, self.ior);
         let t = (1.0 - f_o) * (1.0 - f_i) / (self.ior * self.ior);
-        self.effective_albedo() * (t * FRAC_1_PI * cos_i)
+        let diffuse = self.effective_albedo() * (t * FRAC_1_PI * cos_i);
+        match self.coating() {
+            Some(c) => {
+                let frame = Frame::from_z(sp.n);
+                let s = c.eval(frame.to_local(wo), frame.to_local(wi));
+                diffuse + self.specular * s
+            }
+            None => diffuse,
+        }
     }
 
-    /// Density of sampling `wi` by the diffuse lobe.
+    /// The rough specular lobe, or `None` for a smooth (delta) coating.
+    fn coating(&self) -> Option<Coating> {
+        (self.alpha >= MIN_ALPHA).then_some(Coating {
+            alpha: self.alpha,
+            distribution: self.distribution,
+            eta: self.ior,
+        })
+    }
+
+    /// Density of sampling `wi` by the diffuse lobe (and the rough specular one).
     pub fn pdf(&self, sp: &Shading, wo: Vec3, wi: Vec3) -> f32 {
         let (cos_o, cos_i) = (sp.n.dot(wo), sp.n.dot(wi));
         if cos_o <= 0.0 || cos_i <= 0.0 {
             return 0.0;
         }
         let p_s = self.specular_probability(fresnel::dielectric(cos_o, self.ior));
-        (1.0 - p_s) * cos_i * FRAC_1_PI
+        let diffuse = (1.0 - p_s) * cos_i * FRAC_1_PI;
+        match self.coating() {
+            Some(c) => {
+                let frame = Frame::from_z(sp.n);
+                diffuse + p_s * c.pdf(frame.to_local(wo), frame.to_local(wi))
+            }
+            None => diffuse,
+        }
     }
 
     /// Picks the specular reflection (a delta) or a cosine-distributed direction.
@@ -97,6 +132,9 @@ impl Plastic {
         let cos_o = sp.n.dot(wo);
         let f_o = fresnel::dielectric(cos_o, self.ior);
         let p_s = self.specular_probability(f_o);
+        if let Some(c) = self.coating() {
+            return self.sample_rough(c, sp, wo, u, u_lobe < p_s);
+        }
         if u_lobe < p_s {
             return Some(BsdfSample {
                 wi: 2.0 * cos_o * sp.n - wo,
@@ -111,6 +149,33 @@ impl Plastic {
         }
         let wi = Frame::from_z(sp.n).to_world(local);
         let pdf = (1.0 - p_s) * warp::cosine_hemisphere_pdf(local);
+        (pdf > 0.0).then(|| BsdfSample {
+            wi,
+            weight: self.eval(sp, wo, wi) / pdf,
+            pdf,
+            is_delta: false,
+        })
+    }
+}
+
+impl Plastic {
+    /// Samples a rough coating's specular lobe or the diffuse one; the
+    /// weight is the whole BSDF over the mixture's density.
+    fn sample_rough(
+        &self,
+        c: Coating,
+        sp: &Shading,
+        wo: Vec3,
+        u: Vec2,
+        specular: bool,
+    ) -> Option<BsdfSample> {
+        let frame = Frame::from_z(sp.n);
+        let wi = if specular {
+            frame.to_world(c.sample(frame.to_local(wo), u)?)
+        } else {
+            frame.to_world(warp::square_to_cosine_hemisphere(u))
+        };
+        let pdf = self.pdf(sp, wo, wi);
         (pdf > 0.0).then(|| BsdfSample {
             wi,
             weight: self.eval(sp, wo, wi) / pdf,

@@ -615,7 +615,8 @@ pub enum MaterialDesc {
         #[serde(default = "default_ior")]
         ior: f32,
     },
-    /// A diffuse base under a smooth dielectric coating (Mitsuba's `plastic`).
+    /// A diffuse base under a smooth (alpha = 0) or rough dielectric coating
+    /// (Mitsuba's `plastic` and `roughplastic`).
     Plastic {
         /// Albedo of the base, in [0, 1].
         #[serde(default = "default_plastic_diffuse")]
@@ -629,6 +630,12 @@ pub enum MaterialDesc {
         /// Sum the base's internal reflections as ρ / (1 − F_dr ρ) (true) or ρ / (1 − F_dr).
         #[serde(default)]
         nonlinear: bool,
+        /// Microfacet α of the coating (0 = smooth).
+        #[serde(default)]
+        alpha: f32,
+        /// Microfacet distribution of a rough coating: `ggx` (default) or `beckmann`.
+        #[serde(default)]
+        distribution: MicrofacetDesc,
     },
 }
 

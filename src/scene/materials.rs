@@ -33,6 +33,15 @@ pub(super) struct Rough {
 }
 
 impl Rough {
+    /// The keys as written.
+    pub(super) fn of(alpha: f32, distribution: MicrofacetDesc, multiscatter: bool) -> Rough {
+        Rough {
+            alpha,
+            distribution,
+            multiscatter,
+        }
+    }
+
     /// The distribution, refusing energy compensation where brume has no
     /// albedo table for it (Beckmann): the user chooses single scattering.
     fn distribution(&self, check: &Check, field: &str) -> Result<Distribution> {
@@ -143,11 +152,7 @@ pub(super) fn material(
             distribution,
             multiscatter,
         } => {
-            let rough = Rough {
-                alpha: *alpha,
-                distribution: *distribution,
-                multiscatter: *multiscatter,
-            };
+            let rough = Rough::of(*alpha, *distribution, *multiscatter);
             dielectric(check, field, *ior, rough)?
         }
         MaterialDesc::Conductor {
@@ -159,11 +164,7 @@ pub(super) fn material(
             multiscatter,
         } => {
             let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
-            let rough = Rough {
-                alpha: *alpha,
-                distribution: *distribution,
-                multiscatter: *multiscatter,
-            };
+            let rough = Rough::of(*alpha, *distribution, *multiscatter);
             conductor(check, field, rough, *eta, *k, f0)?
         }
         MaterialDesc::ThinDielectric { ior } => thin_dielectric(check, field, *ior)?,
@@ -172,9 +173,19 @@ pub(super) fn material(
             specular,
             ior,
             nonlinear,
+            alpha,
+            distribution,
         } => {
-            let diffuse = color("diffuse", diffuse)?;
-            plastic(check, field, diffuse, *specular, *ior, *nonlinear)?
+            // Mitsuba's roughplastic is single scattering only; there is no compensation key.
+            let rough = Rough::of(*alpha, *distribution, false);
+            let (specular, ior, nonlinear) = (*specular, *ior, *nonlinear);
+            let coating = Coating {
+                specular,
+                ior,
+                nonlinear,
+                rough,
+            };
+            plastic(check, field, color("diffuse", diffuse)?, coating)?
         }
     })
 }
@@ -185,23 +196,35 @@ pub(super) fn thin_dielectric(check: &Check, field: &str, ior: f32) -> Result<Ma
     Ok(Material::ThinDielectric { ior })
 }
 
-/// `{ type = "plastic", diffuse, specular, ior, nonlinear }`; `diffuse` was
-/// checked (as a reflectance or texture) by the caller.
+/// The coating keys of a plastic as written.
+pub(super) struct Coating {
+    /// `specular` (default 1).
+    pub specular: Color,
+    /// `ior` of the coating.
+    pub ior: f32,
+    /// `nonlinear` (default false).
+    pub nonlinear: bool,
+    /// `alpha` (0: smooth) and `distribution` (default GGX).
+    pub rough: Rough,
+}
+
+/// `{ type = "plastic", diffuse, specular, ior, nonlinear, alpha, distribution }`;
+/// `diffuse` was checked (as a reflectance or texture) by the caller.
 pub(super) fn plastic(
     check: &Check,
     field: &str,
     diffuse: Rgb,
-    specular: Color,
-    ior: f32,
-    nonlinear: bool,
+    coating: Coating,
 ) -> Result<Material> {
-    let ior = check.range(&format!("{field}.ior"), ior, 0.0, 10.0, false)?;
+    let ior = check.range(&format!("{field}.ior"), coating.ior, 0.0, 10.0, false)?;
     Ok(Material::Plastic(Plastic {
         diffuse,
-        specular: check.albedo(&format!("{field}.specular"), specular)?,
+        specular: check.albedo(&format!("{field}.specular"), coating.specular)?,
         ior,
         fdr_int: diffuse_fresnel(1.0 / ior),
-        nonlinear,
+        nonlinear: coating.nonlinear,
+        alpha: alpha(check, &format!("{field}.alpha"), coating.rough.alpha)?,
+        distribution: coating.rough.distribution(check, field)?,
     }))
 }
 

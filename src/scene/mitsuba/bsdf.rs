@@ -1,5 +1,5 @@
 //! `<bsdf>`: diffuse, null, dielectric, thindielectric, roughdielectric,
-//! conductor, roughconductor, plastic, twosided; the rest is refused by name.
+//! conductor, roughconductor, plastic, roughplastic, twosided; the rest is refused by name.
 
 use super::mechanics::Node;
 use super::values::{ColorParam, Obj, Props};
@@ -87,13 +87,8 @@ pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
             one_sided: false,
             transmissive: true,
         },
-        "plastic" => opaque(plastic(ctx, &p)?),
-        "roughplastic" => {
-            return Err(unsupported(
-                node,
-                "roughplastic (its rough coating's transmittance tables are not in brume yet; `plastic` is)",
-            ))
-        }
+        "plastic" => opaque(plastic(ctx, &p, false)?),
+        "roughplastic" => opaque(plastic(ctx, &p, true)?),
         _ => return Err(unsupported(node, "this BSDF")),
     };
     p.finish()?;
@@ -180,23 +175,38 @@ fn relative_ior(p: &Props) -> Result<f32> {
     Ok((int / ext) as f32)
 }
 
-/// `plastic`: diffuse_reflectance (0.5, or a texture), specular_reflectance
-/// (1), int_ior (polypropylene) over ext_ior (air), `nonlinear` (false).
-fn plastic(ctx: &Ctx, p: &Props) -> Result<MaterialDesc> {
+/// `plastic` / `roughplastic`: diffuse_reflectance (0.5, or a texture),
+/// specular_reflectance (1; roughplastic takes 1 only), int_ior
+/// (polypropylene) over ext_ior (air), `nonlinear` (false), and for the
+/// rough one `distribution` (beckmann) and `alpha` (0.1).
+fn plastic(ctx: &Ctx, p: &Props, rough: bool) -> Result<MaterialDesc> {
     let int = ior(p, "int_ior", 1.49)?;
     let ext = ior(p, "ext_ior", 1.000277)?;
     let specular = match p.color("specular_reflectance")? {
         None => Color([1.0; 3]),
-        Some(ColorParam::Rgb(c)) => Color(c.map(|v| v as f32)),
+        Some(ColorParam::Rgb(c)) if !rough || c == [1.0; 3] => Color(c.map(|v| v as f32)),
+        Some(ColorParam::Rgb(_)) => {
+            return Err(unsupported(
+                p.node_of("specular_reflectance").unwrap_or(p.owner),
+                "a roughplastic specular_reflectance other than 1",
+            ))
+        }
         Some(ColorParam::Texture(t)) => {
             return Err(unsupported(t.at, "a textured specular_reflectance"))
         }
+    };
+    let (alpha, distribution) = if rough {
+        roughness(p)?
+    } else {
+        (0.0, MicrofacetDesc::Ggx)
     };
     Ok(MaterialDesc::Plastic {
         diffuse: color(ctx, p, "diffuse_reflectance", 0.5)?,
         specular,
         ior: (int / ext) as f32,
         nonlinear: p.bool("nonlinear")?.unwrap_or(false),
+        alpha,
+        distribution,
     })
 }
 
