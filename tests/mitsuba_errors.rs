@@ -191,9 +191,13 @@ fn textures_brume_cannot_match_are_refused_by_element_and_line() {
             "this texture",
         ),
         (
-            on("disk", r#"type="checkerboard">"#),
-            r#"<texture type="checkerboard" name="reflectance">"#,
-            "a texture on a disk",
+            // An unflipped disk's v is Mitsuba's: a clamped bitmap needs the offset 1.
+            on(
+                "disk",
+                r#"type="bitmap"><string name="filename" value="bad.xml"/><string name="wrap_mode" value="clamp"/>"#,
+            ),
+            r#"<string name="wrap_mode">"#,
+            "v offset of 1",
         ),
         (
             on("cube", r#"type="checkerboard">"#),

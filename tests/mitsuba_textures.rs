@@ -26,3 +26,10 @@ fn textured_obj_renders_like_its_toml_twin() {
 fn textured_ply_renders_like_its_toml_twin() {
     assert_twins("textured_ply");
 }
+
+/// Disks: (r, φ/2π) in both, φ turned by flip_normals (a repeating bitmap,
+/// a checkerboard and a clamped bitmap on flipped disks).
+#[test]
+fn textured_disks_render_like_their_toml_twin() {
+    assert_twins("textured_disks");
+}

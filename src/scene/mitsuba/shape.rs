@@ -172,9 +172,10 @@ fn uv_frame(p: &Props, kind: &str, flip: bool) -> Result<UvFrame> {
             "a texture on a sphere (Mitsuba's sphere coordinates have their pole on the local Z axis \
              and turn with to_world; brume's lat-long pole is +Y and ignores rotation)",
         ),
-        "disk" => UvFrame::Refused(
-            "a texture on a disk (Mitsuba's disk coordinates are not matched to brume's (r, φ/2π) yet)",
-        ),
+        // Both: (r, φ/2π ∈ [0, 1)), φ from local X toward local Y in Mitsuba,
+        // from u_axis toward normal × u_axis in brume, which flip_normals turns.
+        "disk" if flip => UvFrame::Flipped,
+        "disk" => UvFrame::Same,
         _ => UvFrame::Refused(
             "a texture on a cube (Mitsuba's cube mesh coordinates differ from brume's box faces)",
         ),

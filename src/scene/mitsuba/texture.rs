@@ -12,9 +12,10 @@ use crate::scene::description::{Color, TextureDesc, UvScale};
 /// How the (u, v) Mitsuba gives a shape relates to brume's (u, v) on the imported shape.
 #[derive(Clone, Copy)]
 pub(crate) enum UvFrame {
-    /// The same coordinates (rectangle, ply, obj with flip_tex_coords = false).
+    /// The same coordinates (rectangle, disk, ply, obj with flip_tex_coords = false).
     Same,
-    /// The same u, Mitsuba's v is 1 − brume's (obj, whose v Mitsuba flips by default).
+    /// The same u, Mitsuba's v is 1 − brume's (obj, whose v Mitsuba flips by default;
+    /// a rectangle or disk turned over by flip_normals).
     Flipped,
     /// No exact match: textures on this shape are refused, for this reason.
     Refused(&'static str),
