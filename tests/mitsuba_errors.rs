@@ -92,7 +92,7 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         r#"<shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape>"#,
         3,
         r#"<texture type="checkerboard" name="reflectance">"#,
-        "textures",
+        "a texture on a sphere",
     );
     refuses(
         r#"<emitter type="constant"><spectrum name="radiance" filename="d65.spd"/></emitter>"#,
@@ -100,6 +100,114 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         r#"<spectrum name="radiance">"#,
         "not supported",
     );
+}
+
+/// `bitmap` and `checkerboard` parameters brume has no match for, and
+/// shapes whose (u, v) cannot be matched to Mitsuba's.
+#[test]
+fn textures_brume_cannot_match_are_refused_by_element_and_line() {
+    let on = |shape: &str, texture: &str| {
+        format!(
+            r#"<shape type="{shape}"><bsdf type="diffuse"><texture name="reflectance" {texture}</texture></bsdf></shape>"#
+        )
+    };
+    let bitmap = |extra: &str| {
+        on(
+            "rectangle",
+            &format!(r#"type="bitmap"><string name="filename" value="bad.xml"/>{extra}"#),
+        )
+    };
+    let cases = [
+        (
+            on(
+                "rectangle",
+                r#"type="checkerboard"><transform name="to_uv"><rotate z="1" angle="30"/></transform>"#,
+            ),
+            r#"<transform name="to_uv">"#,
+            "other than a scale",
+        ),
+        (
+            on(
+                "rectangle",
+                r#"type="checkerboard"><transform name="to_uv"><translate x="0.5"/></transform>"#,
+            ),
+            r#"<transform name="to_uv">"#,
+            "other than a scale",
+        ),
+        (
+            bitmap(r#"<string name="filter_type" value="nearest"/>"#),
+            r#"<string name="filter_type">"#,
+            "filter_type nearest",
+        ),
+        (
+            bitmap(r#"<string name="filter_type" value="cubic"/>"#),
+            r#"<string name="filter_type">"#,
+            "unknown filter_type `cubic`",
+        ),
+        (
+            bitmap(r#"<string name="wrap_mode" value="mirror"/>"#),
+            r#"<string name="wrap_mode">"#,
+            "wrap_mode mirror",
+        ),
+        (
+            bitmap(r#"<string name="wrap_mode" value="tile"/>"#),
+            r#"<string name="wrap_mode">"#,
+            "unknown wrap_mode `tile`",
+        ),
+        // A clamped bitmap on a rectangle needs the v offset 1 brume's textures lack.
+        (
+            bitmap(r#"<string name="wrap_mode" value="clamp"/>"#),
+            r#"<string name="wrap_mode">"#,
+            "v offset of 1",
+        ),
+        (
+            on(
+                "obj",
+                r#"type="checkerboard"><transform name="to_uv"><scale x="1" y="1.5"/></transform>"#,
+            )
+            .replace("<bsdf", r#"<string name="filename" value="bad.xml"/><bsdf"#),
+            r#"<transform name="to_uv">"#,
+            "v offset of 1.5",
+        ),
+        (
+            on(
+                "rectangle",
+                r#"type="checkerboard"><float name="gamma" value="2"/>"#,
+            ),
+            r#"<float name="gamma">"#,
+            "this parameter",
+        ),
+        (
+            on(
+                "rectangle",
+                r#"type="checkerboard"><texture type="checkerboard" name="color0"/>"#,
+            ),
+            r#"<texture type="checkerboard" name="color0">"#,
+            "a texture inside a checkerboard",
+        ),
+        (
+            on("rectangle", r#"type="mesh_attribute">"#),
+            r#"<texture type="mesh_attribute" name="reflectance">"#,
+            "this texture",
+        ),
+        (
+            // An unflipped disk's v is Mitsuba's: a clamped bitmap needs the offset 1.
+            on(
+                "disk",
+                r#"type="bitmap"><string name="filename" value="bad.xml"/><string name="wrap_mode" value="clamp"/>"#,
+            ),
+            r#"<string name="wrap_mode">"#,
+            "v offset of 1",
+        ),
+        (
+            on("cube", r#"type="checkerboard">"#),
+            r#"<texture type="checkerboard" name="reflectance">"#,
+            "a texture on a cube",
+        ),
+    ];
+    for (body, element, words) in cases {
+        refuses(&body, 3, element, words);
+    }
 }
 
 /// Disks and `flip_normals` where brume would render something else than

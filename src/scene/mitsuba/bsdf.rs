@@ -1,11 +1,11 @@
 //! `<bsdf>`: diffuse, null, dielectric, thindielectric, roughdielectric,
 //! conductor, roughconductor, plastic, roughplastic, twosided; the rest is refused by name.
 
-use super::mechanics::Node;
+use super::texture::UvFrame;
 use super::values::{ColorParam, Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, MicrofacetDesc, TextureDesc};
+use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, MicrofacetDesc};
 
 /// Mitsuba's named indices of refraction (its `dielectric` table).
 const NAMED_IOR: [(&str, f64); 23] = [
@@ -45,7 +45,8 @@ pub(crate) struct Surface {
 }
 
 /// The surface of a shape's `<bsdf>` (or `<ref>` to one).
-pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
+/// `frame` relates Mitsuba's texture coordinates on the shape to brume's.
+pub(crate) fn read(ctx: &Ctx, obj: Obj, frame: UvFrame) -> Result<Surface> {
     let node = obj.node;
     let kind = node.required("type")?;
     if kind == "twosided" {
@@ -56,7 +57,7 @@ pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
             [one] if one.node.attr("type") == Some("twosided") => {
                 Err(node.error("a twosided inside a twosided"))
             }
-            [one] => read(ctx, *one).map(|s| Surface {
+            [one] => read(ctx, *one, frame).map(|s| Surface {
                 one_sided: false,
                 ..s
             }),
@@ -72,7 +73,7 @@ pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
             transmissive: true,
         },
         "diffuse" => opaque(MaterialDesc::Diffuse {
-            albedo: color(ctx, &p, "reflectance", 0.5)?,
+            albedo: color(ctx, &p, "reflectance", 0.5, frame)?,
         }),
         "dielectric" | "roughdielectric" => Surface {
             material: Some(dielectric(&p, kind == "roughdielectric")?),
@@ -87,8 +88,8 @@ pub(crate) fn read(ctx: &Ctx, obj: Obj) -> Result<Surface> {
             one_sided: false,
             transmissive: true,
         },
-        "plastic" => opaque(plastic(ctx, &p, false)?),
-        "roughplastic" => opaque(plastic(ctx, &p, true)?),
+        "plastic" => opaque(plastic(ctx, &p, false, frame)?),
+        "roughplastic" => opaque(plastic(ctx, &p, true, frame)?),
         _ => return Err(unsupported(node, "this BSDF")),
     };
     p.finish()?;
@@ -179,7 +180,7 @@ fn relative_ior(p: &Props) -> Result<f32> {
 /// specular_reflectance (1; roughplastic takes 1 only), int_ior
 /// (polypropylene) over ext_ior (air), `nonlinear` (false), and for the
 /// rough one `distribution` (beckmann) and `alpha` (0.1).
-fn plastic(ctx: &Ctx, p: &Props, rough: bool) -> Result<MaterialDesc> {
+fn plastic(ctx: &Ctx, p: &Props, rough: bool, frame: UvFrame) -> Result<MaterialDesc> {
     let int = ior(p, "int_ior", 1.49)?;
     let ext = ior(p, "ext_ior", 1.000277)?;
     let specular = match p.color("specular_reflectance")? {
@@ -201,7 +202,7 @@ fn plastic(ctx: &Ctx, p: &Props, rough: bool) -> Result<MaterialDesc> {
         (0.0, MicrofacetDesc::Ggx)
     };
     Ok(MaterialDesc::Plastic {
-        diffuse: color(ctx, p, "diffuse_reflectance", 0.5)?,
+        diffuse: color(ctx, p, "diffuse_reflectance", 0.5, frame)?,
         specular,
         ior: (int / ext) as f32,
         nonlinear: p.bool("nonlinear")?.unwrap_or(false),
@@ -291,15 +292,12 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
 }
 
 /// A colour or a `bitmap`/`checkerboard` texture, with Mitsuba's default `grey`.
-fn color(ctx: &Ctx, p: &Props, key: &str, grey: f32) -> Result<ColorOrTexture> {
+fn color(ctx: &Ctx, p: &Props, key: &str, grey: f32, frame: UvFrame) -> Result<ColorOrTexture> {
     match p.color(key)? {
         None => Ok(ColorOrTexture::Color(Color([grey; 3]))),
         Some(ColorParam::Rgb(c)) => Ok(ColorOrTexture::Color(Color(c.map(|v| v as f32)))),
-        Some(ColorParam::Texture(t)) => texture(ctx, t.node).map(ColorOrTexture::Texture),
+        Some(ColorParam::Texture(t)) => {
+            super::texture::read(ctx, t.node, frame).map(ColorOrTexture::Texture)
+        }
     }
-}
-
-/// `<texture>`: not yet mapped (UV conventions differ between the two renderers).
-fn texture(_ctx: &Ctx, node: &Node) -> Result<TextureDesc> {
-    Err(unsupported(node, "textures (bitmap, checkerboard)"))
 }

@@ -12,6 +12,7 @@ mod numbers;
 mod sensor;
 mod shape;
 mod spectrum;
+mod texture;
 mod transform;
 mod values;
 

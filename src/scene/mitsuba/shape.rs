@@ -3,6 +3,7 @@
 
 use super::bsdf::Surface;
 use super::mechanics::Node;
+use super::texture::UvFrame;
 use super::transform::{axes, to_brume};
 use super::values::{Obj, Props};
 use super::{unsupported, Ctx};
@@ -34,8 +35,9 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Imported<'a>> {
     let p = ctx.props(node)?;
     let flip = p.bool("flip_normals")?.unwrap_or(false);
     let (mut desc, bounds) = geometry(ctx, &p, kind, flip)?;
+    let frame = uv_frame(&p, kind, flip)?;
     let surface = match p.object("bsdf", None) {
-        Some(b) => super::bsdf::read(ctx, b)?,
+        Some(b) => super::bsdf::read(ctx, b, frame)?,
         None => Surface {
             material: Some(MaterialDesc::Diffuse {
                 albedo: ColorOrTexture::Color(Color([0.5; 3])),
@@ -118,7 +120,7 @@ fn geometry(ctx: &Ctx, p: &Props, kind: &str, flip: bool) -> Result<(ShapeDesc, 
             Some(box_bounds(&to_world, DVec3::ZERO, half))
         }
         "obj" | "ply" => {
-            mesh(ctx, p, &mut desc, kind)?;
+            mesh(ctx, p, &mut desc)?;
             desc.transform = to_brume(&to_world, at)?;
             None
         }
@@ -133,7 +135,7 @@ fn geometry(ctx: &Ctx, p: &Props, kind: &str, flip: bool) -> Result<(ShapeDesc, 
 }
 
 /// `<shape type="obj">` or `"ply"`: the file; face normals are refused.
-fn mesh(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc, kind: &str) -> Result<()> {
+fn mesh(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc) -> Result<()> {
     let (name, file_at) = p
         .string("filename")?
         .ok_or_else(|| p.owner.error("give <string name=\"filename\">"))?;
@@ -145,10 +147,39 @@ fn mesh(ctx: &Ctx, p: &Props, desc: &mut ShapeDesc, kind: &str) -> Result<()> {
             "face_normals (brume shades with the mesh's vertex normals when it has them)",
         ));
     }
-    if kind == "obj" {
-        p.bool("flip_tex_coords")?; // only matters to textures, which are refused
-    }
     Ok(())
+}
+
+/// How Mitsuba's texture coordinates on a `kind` shape relate to brume's on
+/// the shape it becomes (docs/textures.md has brume's, README.md Mitsuba's).
+fn uv_frame(p: &Props, kind: &str, flip: bool) -> Result<UvFrame> {
+    Ok(match kind {
+        // Mitsuba: u, v = (x + 1)/2, (y + 1)/2 on the local square. brume's
+        // quad runs u along local X and v along normal × u: along local Y
+        // unless flip_normals or a mirroring to_world turns the normal.
+        "rectangle" => {
+            let m = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
+            if (DMat3::from_mat4(m).determinant() < 0.0) != flip {
+                UvFrame::Flipped
+            } else {
+                UvFrame::Same
+            }
+        }
+        // Mitsuba flips an OBJ's v (1 − vt) unless told not to; brume uses vt as written.
+        "obj" if p.bool("flip_tex_coords")?.unwrap_or(true) => UvFrame::Flipped,
+        "obj" | "ply" => UvFrame::Same,
+        "sphere" => UvFrame::Refused(
+            "a texture on a sphere (Mitsuba's sphere coordinates have their pole on the local Z axis \
+             and turn with to_world; brume's lat-long pole is +Y and ignores rotation)",
+        ),
+        // Both: (r, φ/2π ∈ [0, 1)), φ from local X toward local Y in Mitsuba,
+        // from u_axis toward normal × u_axis in brume, which flip_normals turns.
+        "disk" if flip => UvFrame::Flipped,
+        "disk" => UvFrame::Same,
+        _ => UvFrame::Refused(
+            "a texture on a cube (Mitsuba's cube mesh coordinates differ from brume's box faces)",
+        ),
+    })
 }
 
 /// A shape description with nothing set but its type.
