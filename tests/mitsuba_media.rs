@@ -8,7 +8,7 @@ mod twin_support;
 
 use brume::math::color::Rgb;
 use brume::math::{Ray, Vec3};
-use brume::scene::description::{MediumDesc, PhaseDesc};
+use brume::scene::description::{BoundsDesc, MediumDesc, PhaseDesc};
 use brume::volume::VolFile;
 use common::{assert_estimate, estimate_ray, scene_from_str, SceneText};
 use glam::DVec3;
@@ -386,9 +386,22 @@ fn heterogeneous_media_outside_the_subset_are_refused_by_element() {
         assert!(e.contains(words) && !e.contains('\n'), "{e}");
     };
     let m = |inner: &str| format!(r#"<medium type="heterogeneous" id="m">{inner}</medium>"#);
+    // σt 2 over the unit cube, which does not hold the cube [-1, 1]³
     refused(
         &m(r#"<float name="sigma_t" value="2"/>"#),
-        "constant sigma_t",
+        "inside a shape its box does not hold",
+    );
+    refused(
+        &m(
+            r#"<volume name="sigma_t" type="constvolume"><transform name="to_world"><rotate y="1" angle="30"/><scale value="4"/></transform></volume>"#,
+        ),
+        "rotates, shears or flattens",
+    );
+    refused(
+        &m(
+            r#"<volume name="albedo" type="gridvolume"><string name="filename" value="albedo.vol"/></volume>"#,
+        ),
+        "an albedo grid with a constant sigma_t",
     );
     refused(
         &m(&format!(
@@ -418,6 +431,61 @@ fn heterogeneous_media_outside_the_subset_are_refused_by_element() {
         r#"<medium type="heterogeneous" id="m"><volume name="sigma_t" type="gridvolume"><string name="filename" value="none.vol"/></volume></medium>"#,
         "none.vol",
     );
+}
+
+/// A constant σt over a constvolume's box: inside a shape the box holds it
+/// is a plain homogeneous interior (σt × scale, albedo, phase), the box's
+/// corners ordered whatever the signs of the scale.
+#[test]
+fn a_constant_sigma_t_inside_a_shape_its_box_holds_is_a_homogeneous_interior() {
+    let m = import_medium(
+        r#"<medium type="heterogeneous" id="m"><volume name="sigma_t" type="constvolume"><rgb name="value" value="0.5, 1, 1.5"/>
+        <transform name="to_world"><scale x="-2" y="2" z="2"/><translate x="1" y="-1" z="-1"/></transform></volume>
+        <float name="albedo" value="0.6"/><float name="scale" value="3"/><phase type="hg"/></medium>"#,
+    );
+    let MediumDesc::Homogeneous {
+        sigma_t,
+        albedo,
+        phase,
+        bounds,
+        global,
+        transform,
+        ..
+    } = m.unwrap()
+    else {
+        panic!("not a homogeneous medium")
+    };
+    assert_eq!(sigma_t.map(|c| c.0), Some([1.5, 3.0, 4.5]));
+    assert_eq!(albedo.map(|c| c.0), Some([0.6; 3]));
+    assert!(matches!(phase, Some(PhaseDesc::Hg { g }) if g == 0.8));
+    assert!(bounds.is_none() && !global && transform.is_none());
+}
+
+/// Around the camera and every shape, a constant σt is a `[[medium]]`
+/// bounded by the constvolume's unit cube under its `to_world`.
+#[test]
+fn a_constant_sigma_t_around_everything_is_bounded_by_its_volumes_box() {
+    let path = twin_support::data("const_fog.xml");
+    let desc = brume::scene::mitsuba::import(&path, Vec::new())
+        .unwrap()
+        .desc;
+    let [MediumDesc::Homogeneous {
+        sigma_t,
+        bounds: Some(BoundsDesc::Box { min, max }),
+        global: false,
+        ..
+    }] = &desc.media[..]
+    else {
+        panic!("not one bounded homogeneous medium: {:?}", desc.media)
+    };
+    assert_eq!(sigma_t.map(|c| c.0), Some([1.2, 0.8, 0.6]));
+    assert_eq!((*min, *max), ([-1.5, 0.0, -1.0], [1.5, 1.5, 1.0]));
+    assert!(desc.interfaces.is_none());
+}
+
+#[test]
+fn a_constant_sigma_t_scene_renders_like_its_toml_twin() {
+    twin_support::assert_twins("const_fog");
 }
 
 #[test]

@@ -72,7 +72,11 @@ fn place_interiors<'a>(ctx: &Ctx<'a>, shapes: &[Imported<'a>]) -> Result<Placed<
     let mut interiors = Vec::new();
     for s in shapes {
         interiors.push(match s.interior {
-            Some(m) => Some(read(ctx, m.node)?),
+            Some(m) => Some(heterogeneous::fit_interior(
+                read(ctx, m.node)?,
+                s.bounds,
+                m.node,
+            )?),
             None => None,
         });
     }
@@ -145,10 +149,16 @@ fn place_global<'a>(ctx: &Ctx<'a>, shapes: &[Imported<'a>], global: Obj<'a>) -> 
     })
 }
 
-/// A medium filling space: a homogeneous one made global (a grid stays in its box).
+/// A medium filling space: a homogeneous one made global (a grid, or a
+/// constant σt bounded by its constant volume's box, stays in its box).
 fn unbounded(ctx: &Ctx, node: &Node) -> Result<MediumDesc> {
     let mut medium = read(ctx, node)?;
-    if let MediumDesc::Homogeneous { global: g, .. } = &mut medium {
+    if let MediumDesc::Homogeneous {
+        global: g,
+        bounds: None,
+        ..
+    } = &mut medium
+    {
         *g = true;
     }
     Ok(medium)
