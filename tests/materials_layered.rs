@@ -6,6 +6,7 @@
 mod analytic_support;
 
 use analytic_support::common::{assert_pixels_equal, estimate_pixels};
+use analytic_support::lobes::{build_error, directional_albedo as albedo};
 use analytic_support::{assert_estimate, estimate, scene_from_str};
 use brume::material::layered::{diffuse_fresnel, Plastic};
 use brume::material::{Distribution, Material, Shading};
@@ -44,15 +45,6 @@ fn plastic(diffuse: Rgb, specular: Rgb, ior: f32, nonlinear: bool) -> Material {
         nonlinear,
         alpha: 0.0,
         distribution: Distribution::Ggx,
-    })
-}
-
-/// Mean `f cos / pdf` over the sampler from `wo` (the directional albedo).
-fn albedo(m: Material, wo: Vec3, seed: u64) -> analytic_support::Estimate {
-    let sp = Shading::facing(Vec3::Z, wo);
-    estimate(200_000, seed, |s| {
-        m.sample(&sp, wo, s.next_2d(), s.next_1d())
-            .map_or(Rgb::BLACK, |b| b.weight)
     })
 }
 
@@ -207,18 +199,6 @@ radiance = 1.0
         ));
         let pixels = estimate_pixels(&scene, 256);
         assert_pixels_equal(&pixels, [1.0; 3], material);
-    }
-}
-
-/// The error of building `scene`, or a panic naming what was accepted.
-fn build_error(scene: &str) -> String {
-    let file = std::path::Path::new("mat.toml");
-    match brume::scene::parse(scene, file) {
-        Ok(desc) => brume::scene::build(&desc, file, std::path::Path::new("."))
-            .err()
-            .unwrap_or_else(|| panic!("accepted: {scene}"))
-            .to_string(),
-        Err(e) => e.to_string(),
     }
 }
 

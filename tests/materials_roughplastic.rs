@@ -5,12 +5,11 @@
 mod analytic_support;
 
 use analytic_support::common::stats::tolerance;
-use analytic_support::lobes::{self, direction};
-use analytic_support::{assert_same, estimate, k_sigma, Estimate};
+use analytic_support::lobes::{self, build_error, direction, directional_albedo as albedo};
+use analytic_support::{assert_same, k_sigma};
 use brume::material::layered::{diffuse_fresnel, Plastic};
-use brume::material::{Distribution, Material, Shading};
+use brume::material::{Distribution, Material};
 use brume::math::color::Rgb;
-use brume::math::Vec3;
 use brume::sampling::chi2::Chi2Result;
 
 const ALPHA: f64 = 0.01;
@@ -28,15 +27,6 @@ fn rough_plastic(diffuse: Rgb, ior: f32, nonlinear: bool, alpha: f32, d: Distrib
         nonlinear,
         alpha,
         distribution: d,
-    })
-}
-
-/// Mean `f cos / pdf` over the sampler from `wo` (the directional albedo).
-fn albedo(m: Material, wo: Vec3, seed: u64) -> Estimate {
-    let sp = Shading::facing(Vec3::Z, wo);
-    estimate(200_000, seed, |s| {
-        m.sample(&sp, wo, s.next_2d(), s.next_1d())
-            .map_or(Rgb::BLACK, |b| b.weight)
     })
 }
 
@@ -110,17 +100,6 @@ fn a_small_alpha_coating_reflects_like_the_smooth_one() {
             );
             assert_same(&rough, &smooth, &format!("{d:?} θ {theta}"));
         }
-    }
-}
-
-fn build_error(scene: &str) -> String {
-    let file = std::path::Path::new("mat.toml");
-    match brume::scene::parse(scene, file) {
-        Ok(desc) => brume::scene::build(&desc, file, std::path::Path::new("."))
-            .err()
-            .unwrap_or_else(|| panic!("accepted: {scene}"))
-            .to_string(),
-        Err(e) => e.to_string(),
     }
 }
 

@@ -2,6 +2,7 @@
 //! material test files.
 
 use brume::material::{Material, Shading};
+use brume::math::color::Rgb;
 use brume::math::Vec3;
 use brume::sampling::chi2::{Chi2Result, SphereChi2};
 use brume::sampling::Sampler;
@@ -28,4 +29,26 @@ pub fn chi2_of(m: Material, wo: Vec3, front: bool, (seed, salt): (u64, u64)) -> 
         },
         |d| m.pdf(&sp, wo, d),
     )
+}
+
+/// Mean `f cos / pdf` over the sampler from `wo` (the directional albedo),
+/// normal +z, 200 000 samples.
+pub fn directional_albedo(m: Material, wo: Vec3, seed: u64) -> super::Estimate {
+    let sp = Shading::facing(Vec3::Z, wo);
+    super::estimate(200_000, seed, |s| {
+        m.sample(&sp, wo, s.next_2d(), s.next_1d())
+            .map_or(Rgb::BLACK, |b| b.weight)
+    })
+}
+
+/// The error of building the material test scene `scene`, or a panic naming what was accepted.
+pub fn build_error(scene: &str) -> String {
+    let file = std::path::Path::new("mat.toml");
+    match brume::scene::parse(scene, file) {
+        Ok(desc) => brume::scene::build(&desc, file, std::path::Path::new("."))
+            .err()
+            .unwrap_or_else(|| panic!("accepted: {scene}"))
+            .to_string(),
+        Err(e) => e.to_string(),
+    }
 }
