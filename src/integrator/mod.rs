@@ -751,9 +751,7 @@ fn russian_roulette(
     if q <= 0.0 || sampler.next_1d() >= q {
         return false;
     }
-    if q < 1.0 {
-        *throughput /= q;
-    }
+    *throughput /= q;
     true
 }
 

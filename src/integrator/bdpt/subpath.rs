@@ -407,8 +407,6 @@ fn roulette(scene: &Scene, walk: &mut Walk, depth: usize, sampler: &mut Sampler)
     if !positive(q) || sampler.next_1d() >= q {
         return false;
     }
-    if q < 1.0 {
-        walk.beta /= q;
-    }
+    walk.beta /= q;
     true
 }
