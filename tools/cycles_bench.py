@@ -25,6 +25,13 @@ render of the same (persistent) scene, times N/(N − 1): the sync, BVH and
 file write are left out of both. Efficiency = 1 / (MSE · seconds), the
 reference's own noise subtracted (bench.py's `score`).
 
+Where a scene's means do not match, a third renderer decides which one moved:
+
+    python3 tools/cycles_bench.py third cloud --runs 20 --spp 96
+
+renders the scene with Mitsuba 3 (llvm_ad_rgb, the scene's depth limit) in
+independent runs and prints its mean ± SE beside the cached references'.
+
 Needs bpy (python3 -m pip install bpy==5.0.1, Python 3.11): without it the
 script says so and exits 2. Environment: BRUME_BENCH_CACHE, BRUME_CPU_LOCK
 (default /tmp/cpu.lock here).
@@ -358,6 +365,43 @@ def cmd_run(args):
         sys.exit(1)
 
 
+def cmd_third(args):
+    """Mitsuba 3 (llvm_ad_rgb) as a third renderer on a harness scene's image mean.
+
+    Where Cycles and brume disagree in the mean (MISMATCH), Mitsuba decides which
+    one moved: `--runs` independent renders of `--spp` samples (their means'
+    spread gives the standard error), compared with the cached references of
+    the last `run` (brume's keyed by its binary's digest, Cycles' long render)."""
+    import numpy as np
+    if not bench.have_llvm():
+        print("cycles_bench.py: Mitsuba's llvm_ad_rgb is not available (pip install mitsuba; "
+              "apt-get install libllvm19); nothing measured", file=sys.stderr)
+        sys.exit(2)
+    key, res = HARNESS[args.scene]
+    bench.MAX_DEPTH_MITSUBA = bench.SCENES[key].get("max_depth", bench.MAX_DEPTH_MITSUBA)
+    work = CACHE / "cycles-work"
+    work.mkdir(parents=True, exist_ok=True)
+    means = []
+    for i in range(args.runs):
+        with bench.cpu_lock():
+            r = bench.run_mitsuba("llvm_ad_rgb", key, res, args.spp, args.threads,
+                                  args.first_seed + i, work)
+        means.append(float(np.mean(r["image"][..., :3])))
+        print(f"  mitsuba run {i + 1}/{args.runs}: {r['spp']} spp, mean {means[-1]:.6f}", flush=True)
+    m = float(np.mean(means))
+    se = float(np.std(means, ddof=1) / math.sqrt(len(means))) if len(means) > 1 else float("nan")
+    print(f"{args.scene}: Mitsuba llvm mean {m:.6f} ± {se:.6f} ({args.runs} × {args.spp} spp)")
+    for who in ("brume", "cycles"):
+        found = sorted((CACHE / "references").glob(f"{args.scene}-{who}-*.npz"),
+                       key=lambda f: f.stat().st_mtime)
+        if not found:
+            print(f"  {who}: no cached reference (run `cycles_bench.py run --scenes {args.scene}` first)")
+            continue
+        z = np.load(found[-1])
+        v = float(np.mean(0.5 * (z["a"] + z["b"])))
+        print(f"  {who} / Mitsuba = {v / m:.5f} ± {v * se / m ** 2:.5f} ({found[-1].name})")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = p.add_subparsers(dest="cmd", required=True)
@@ -369,6 +413,12 @@ def main():
     r.add_argument("--ref-seconds", type=float, default=60.0)
     r.add_argument("--markdown", help="update the generated Cycles section of this file (BENCHMARKS.md)")
     r.add_argument("--no-build", action="store_true")
+    t = sub.add_parser("third", help="Mitsuba llvm's image mean of a harness scene beside the cached references")
+    t.add_argument("scene", choices=sorted(HARNESS))
+    t.add_argument("--spp", type=int, default=96)
+    t.add_argument("--runs", type=int, default=20)
+    t.add_argument("--threads", type=int, default=2)
+    t.add_argument("--first-seed", type=int, default=500, help="run i uses seed FIRST_SEED + i")
     w = sub.add_parser("cycles-worker", help=argparse.SUPPRESS)
     for name, t in [("--spec", str), ("--out", str), ("--spp", int), ("--seconds", float),
                     ("--threads", int), ("--seed", int), ("--vdb", str)]:
@@ -379,6 +429,8 @@ def main():
     if args.cmd == "run":
         args.command_line = "python3 tools/cycles_bench.py " + " ".join(sys.argv[1:])
         cmd_run(args)
+    elif args.cmd == "third":
+        cmd_third(args)
     else:
         cycles_worker(args)
 
