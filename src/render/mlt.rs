@@ -65,7 +65,7 @@ impl<'a> Metropolis<'a> {
             Some(boot) => {
                 let chains = (0..count)
                     .into_par_iter()
-                    .filter_map(|c| Chain::start(scene, settings, &mux, &boot, (c, count)))
+                    .filter_map(|c| Chain::start(scene, settings, &mux, &boot, c))
                     .collect();
                 (boot, chains)
             }

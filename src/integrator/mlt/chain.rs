@@ -38,22 +38,14 @@ pub struct Chain {
 }
 
 impl Chain {
-    /// Chain `index` of `count` of `scene`, started from a bootstrap sample
-    /// resampled by luminance; None when the bootstrap found no light (b = 0).
-    ///
-    /// The resampling is stratified: chain c draws its point in
-    /// [c/count, (c + 1)/count) of the weights' running sum, so over all
-    /// chains sample i is picked count · wᵢ/b times in expectation, as with
-    /// independent draws (the image, a sum over chains, keeps its
-    /// expectation), but a heavy sample gets ⌊count · wᵢ/b⌋ or one more
-    /// chains instead of a multinomial number, and light ones are not
-    /// picked twice by chance while others go unpicked.
+    /// Chain `index` of `scene`, started from a bootstrap sample resampled by luminance;
+    /// None when the bootstrap found no light (b = 0).
     pub fn start(
         scene: &Scene,
         settings: &MltSettings,
         mux: &Multiplexed,
         boot: &Bootstrap,
-        (index, count): (u64, u64),
+        index: u64,
     ) -> Option<Chain> {
         if boot.brightness.is_nan() || boot.brightness <= 0.0 {
             return None;
@@ -61,7 +53,7 @@ impl Chain {
         let seed = scene.settings.seed;
         let chain_key = mix64(seed ^ mix64(index ^ 0x4D4C_5443_6861_696E));
         let mut rng = Pcg32::new(chain_key, mix64(chain_key));
-        let (sample, length) = boot.pick(stratum(index, count, uniform(&mut rng)));
+        let (sample, length) = boot.pick(uniform(&mut rng));
         let mut state = PrimarySamples::new(
             bootstrap::key(seed, sample),
             settings.small_step_size,
@@ -190,11 +182,6 @@ fn pick_strategy(
     strategies[i]
 }
 
-/// Point `v` ∈ [0, 1) of stratum `index` of `count` equal strata of [0, 1).
-fn stratum(index: u64, count: u64, v: f64) -> f64 {
-    ((index as f64 + v) / count as f64).min(1.0 - f64::EPSILON / 2.0)
-}
-
 /// The index of `weights` (non-negative, one positive) whose share of their sum holds `u` ∈ [0, 1).
 fn pick_index(weights: &[f64], u: f64) -> usize {
     let target = u * weights.iter().sum::<f64>();
@@ -229,7 +216,7 @@ fn uniform(rng: &mut Pcg32) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{pick_index, stratum};
+    use super::pick_index;
 
     /// A chain starts on strategy i with probability weight i over the sum, never on a zero weight.
     #[test]
@@ -240,22 +227,5 @@ mod tests {
         assert_eq!(pick_index(&w, 0.251), 3);
         assert_eq!(pick_index(&w, 0.999_999), 3);
         assert_eq!(pick_index(&[2.0, 0.0], 0.75), 0);
-    }
-
-    /// The chains' strata tile [0, 1): each point stays in its own stratum, so
-    /// every sample's expected number of chains is its share of the weights.
-    #[test]
-    fn the_strata_tile_the_unit_interval() {
-        let count = 7;
-        for c in 0..count {
-            for v in [0.0, 0.5, 1.0 - 1e-12] {
-                let u = stratum(c, count, v);
-                assert!(
-                    u >= c as f64 / 7.0 && u < (c + 1) as f64 / 7.0,
-                    "{c} {v} {u}"
-                );
-            }
-        }
-        assert!(stratum(6, 7, 1.0 - f64::EPSILON / 2.0) < 1.0);
     }
 }
