@@ -108,6 +108,25 @@ impl PrimarySamples {
         self.stream = 0;
     }
 
+    /// Numbers drawn from now on come from `stream`, from its number `dimension` on
+    /// (every strategy of a bootstrap sample reads the same connection numbers).
+    pub fn seek(&mut self, stream: Stream, dimension: usize) {
+        self.stream = stream as usize;
+        self.next_dimension[self.stream] = dimension;
+    }
+
+    /// Sets number `dimension` of `stream` in the current state, drawing the
+    /// numbers before it first if no evaluation asked for them yet.
+    pub fn set(&mut self, stream: Stream, dimension: usize, value: f32) {
+        let saved = (self.stream, self.next_dimension);
+        self.seek(stream, dimension);
+        self.next_1d();
+        let c = &mut self.coords[dimension * STREAMS + stream as usize];
+        c.value = value;
+        c.backup_value = value;
+        (self.stream, self.next_dimension) = saved;
+    }
+
     /// Numbers drawn from now on come from `stream`.
     #[inline]
     pub fn set_stream(&mut self, stream: Stream) {

@@ -7,7 +7,7 @@ use crate::film::Splat;
 use crate::integrator::bdpt::multiplexed::{Multiplexed, PathSample};
 use crate::integrator::bdpt::BdptArena;
 use crate::integrator::Scene;
-use crate::sampling::primary::PrimarySamples;
+use crate::sampling::primary::{PrimarySamples, Stream};
 use crate::sampling::{mix64, Sampler};
 use rand::RngCore;
 use rand_pcg::Pcg32;
@@ -60,8 +60,11 @@ impl Chain {
             settings.large_step_probability,
         );
         let mut arena = BdptArena::new();
-        // The same key gives the bootstrap's path again: its luminance is positive.
+        let strategy = pick_strategy(scene, mux, (&mut state, &mut arena), length, &mut rng);
+        // The bootstrap's sample with that strategy: its luminance is the positive one it had there.
+        state.rewind();
         let current = mux.evaluate(scene, length, &mut Sampler::primary(&mut state), &mut arena)?;
+        debug_assert!(luminance(&current) == strategy);
         state.accept();
         let current_luminance = luminance(&current);
         (current_luminance > 0.0).then_some(Chain {
@@ -150,6 +153,49 @@ impl Chain {
     }
 }
 
+/// Makes `state` (a bootstrap sample's key, not yet evaluated) the state of
+/// one of its `length`'s strategies, drawn in proportion to their states'
+/// luminances, and returns that luminance. Picking the sample by its mean
+/// luminance over strategies, then the strategy so, then the strategy number
+/// uniformly within its bin, draws the multiplexed state in proportion to
+/// its luminance, as resampling the multiplexed bootstrap did.
+fn pick_strategy(
+    scene: &Scene,
+    mux: &Multiplexed,
+    (state, arena): (&mut PrimarySamples, &mut BdptArena),
+    length: usize,
+    rng: &mut Pcg32,
+) -> f64 {
+    let n = length + 1;
+    let mut strategies = vec![0.0; n];
+    mux.evaluate_all(scene, length, state, arena, &mut strategies);
+    let i = pick_index(&strategies, uniform(rng));
+    // Uniform within bin i of the pick evaluate makes (t − 1 = ⌊u·n⌋ in
+    // f32): drawn again in the rare case rounding carried it to the next bin.
+    let u = loop {
+        let u = ((i as f64 + uniform(rng)) / n as f64) as f32;
+        if (u * n as f32) as usize == i {
+            break u;
+        }
+    };
+    state.set(Stream::Connection, 0, u);
+    strategies[i]
+}
+
+/// The index of `weights` (non-negative, one positive) whose share of their sum holds `u` ∈ [0, 1).
+fn pick_index(weights: &[f64], u: f64) -> usize {
+    let target = u * weights.iter().sum::<f64>();
+    let mut below = 0.0;
+    for (i, &w) in weights.iter().enumerate() {
+        below += w;
+        if w > 0.0 && target < below {
+            return i;
+        }
+    }
+    // Rounding left `target` at the sum: the last positive weight.
+    weights.iter().rposition(|&w| w > 0.0).unwrap_or(0)
+}
+
 /// The target of a state: the luminance of its radiance.
 fn luminance(p: &PathSample) -> f64 {
     p.radiance.luminance().max(0.0) as f64
@@ -166,4 +212,20 @@ fn push(splats: &mut Vec<Splat>, p: &PathSample, weight: f64) {
 /// A uniform number in [0, 1) with 53 bits.
 fn uniform(rng: &mut Pcg32) -> f64 {
     (rng.next_u64() >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::pick_index;
+
+    /// A chain starts on strategy i with probability weight i over the sum, never on a zero weight.
+    #[test]
+    fn strategies_are_picked_in_proportion_to_their_luminance() {
+        let w = [0.0, 1.0, 0.0, 3.0];
+        assert_eq!(pick_index(&w, 0.0), 1);
+        assert_eq!(pick_index(&w, 0.249), 1);
+        assert_eq!(pick_index(&w, 0.251), 3);
+        assert_eq!(pick_index(&w, 0.999_999), 3);
+        assert_eq!(pick_index(&[2.0, 0.0], 0.75), 0);
+    }
 }

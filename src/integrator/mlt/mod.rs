@@ -6,8 +6,10 @@
 //! `sampling::primary`); its value is one bidirectional strategy's weighted
 //! contribution over the chance of picking it (`bdpt::multiplexed`), and its
 //! target the luminance I of that value. A bootstrap of independent states
-//! (module `bootstrap`) estimates b, the image's mean luminance, and starts
-//! every chain from a state resampled in proportion to I. Each mutation
+//! (module `bootstrap`; each sample's I averaged over its length's
+//! strategies, the multiplexed I's expectation) estimates b, the image's
+//! mean luminance, and starts every chain from a state resampled in
+//! proportion to I. Each mutation
 //! splats the proposal with weight a·b/I(proposal) and the current state with
 //! (1 − a)·b/I(current) (the expected-value form of Metropolis–Hastings, a the
 //! acceptance probability), so every pixel is an unbiased estimate once the
