@@ -507,3 +507,34 @@ fn roughplastic_maps_onto_a_rough_plastic_and_refuses_a_tinted_coating() {
         assert!(!err.contains('\n'), "{err}");
     }
 }
+
+/// Mitsuba's file resolver holds the scene's own folder and the `<path>`
+/// folders for every file, also those named in included XML, and brume
+/// must find them when the scene is named by a relative path.
+#[test]
+fn files_are_found_through_the_scene_folder_and_path_folders_from_a_relative_scene_path() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let (dir, _) = write(&[
+        (
+            "set/a/scene.xml",
+            &scene(r#"<path value="../../shared"/><include filename="inc/base.xml"/>"#),
+        ),
+        (
+            "set/a/inc/base.xml",
+            r#"<scene version="3.0.0"><include filename="inc/light.xml"/><shape type="obj"><string name="filename" value="meshes/m.obj"/></shape></scene>"#,
+        ),
+        (
+            "set/a/inc/light.xml",
+            r#"<scene version="3.0.0"><emitter type="constant"/></scene>"#,
+        ),
+        ("shared/meshes/m.obj", obj),
+    ]);
+    let out = assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .current_dir(dir.path())
+        .args(["info", "set/a/scene.xml"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+}
