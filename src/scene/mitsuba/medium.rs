@@ -113,7 +113,7 @@ fn medium_shape_agrees(
         return false;
     }
     let Some((lo, hi)) = s.bounds else {
-        return true; // OBJ bounds are not known before the mesh is read
+        return true; // a mesh file that cannot be read (building the scene reports it)
     };
     let overlapped = shapes.iter().enumerate().any(|(j, other)| {
         let Some((olo, ohi)) = other.bounds else {
