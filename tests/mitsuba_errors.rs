@@ -65,12 +65,6 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "not supported",
     );
     refuses(
-        r#"<medium type="heterogeneous" id="m"/><shape type="sphere"><point name="center" z="-5"/><bsdf type="null"/><ref name="interior" id="m"/></shape>"#,
-        3,
-        r#"<medium type="heterogeneous" id="m">"#,
-        "heterogeneous",
-    );
-    refuses(
         r#"<emitter type="spot"><float name="beam_width" value="40"/></emitter>"#,
         3,
         r#"<float name="beam_width">"#,

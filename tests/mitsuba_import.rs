@@ -507,3 +507,69 @@ fn roughplastic_maps_onto_a_rough_plastic_and_refuses_a_tinted_coating() {
         assert!(!err.contains('\n'), "{err}");
     }
 }
+
+/// Mitsuba's file resolver holds the scene's own folder and the `<path>`
+/// folders for every file, also those named in included XML, and brume
+/// must find them when the scene is named by a relative path.
+#[test]
+fn files_are_found_through_the_scene_folder_and_path_folders_from_a_relative_scene_path() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let (dir, _) = write(&[
+        (
+            "set/a/scene.xml",
+            &scene(r#"<path value="../../shared"/><include filename="inc/base.xml"/>"#),
+        ),
+        (
+            "set/a/inc/base.xml",
+            r#"<scene version="3.0.0"><include filename="inc/light.xml"/><shape type="obj"><string name="filename" value="meshes/m.obj"/></shape></scene>"#,
+        ),
+        (
+            "set/a/inc/light.xml",
+            r#"<scene version="3.0.0"><emitter type="constant"/></scene>"#,
+        ),
+        ("shared/meshes/m.obj", obj),
+    ]);
+    let out = assert_cmd::Command::cargo_bin("brume")
+        .unwrap()
+        .current_dir(dir.path())
+        .args(["info", "set/a/scene.xml"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+}
+
+/// A mesh's bounds come from its file: a small medium mesh inside a larger
+/// one with the same interior is an overlap (leaving the small one, Mitsuba
+/// puts a ray in its exterior, vacuum), so Mitsuba's rule is kept.
+#[test]
+fn nested_medium_meshes_keep_mitsubas_interfaces() {
+    let cube = |h: f32| {
+        let mut text = String::new();
+        for i in 0..8 {
+            let c = |bit: i32| if i & bit == 0 { -h } else { h };
+            text += &format!("v {} {} {}\n", c(1), c(2), c(4));
+        }
+        // the twelve outward triangles of the cube
+        text + "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n\
+                f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n"
+    };
+    let shape = |file: &str| {
+        format!(
+            r#"<shape type="obj"><string name="filename" value="{file}"/><bsdf type="null"/><ref name="interior" id="m"/><transform name="to_world"><translate z="-5"/></transform></shape>"#
+        )
+    };
+    let body = format!(
+        r#"<medium type="homogeneous" id="m"/>{}{}"#,
+        shape("small.obj"),
+        shape("big.obj")
+    );
+    let (_dir, path) = write(&[
+        ("scene.xml", &scene(&body)),
+        ("small.obj", &cube(0.5)),
+        ("big.obj", &cube(1.0)),
+    ]);
+    let desc = import(&path, vec![]).unwrap_or_else(|e| panic!("{e}")).desc;
+    let rule = desc.interfaces.expect("interface rule");
+    assert_eq!(rule.shapes, vec![Some([Some(0), None]); 2]);
+}

@@ -386,11 +386,6 @@ fn heterogeneous_media_outside_the_subset_are_refused_by_element() {
         assert!(e.contains(words) && !e.contains('\n'), "{e}");
     };
     let m = |inner: &str| format!(r#"<medium type="heterogeneous" id="m">{inner}</medium>"#);
-    // σt 2 over the unit cube, which does not hold the cube [-1, 1]³
-    refused(
-        &m(r#"<float name="sigma_t" value="2"/>"#),
-        "inside a shape its box does not hold",
-    );
     refused(
         &m(
             r#"<volume name="sigma_t" type="constvolume"><transform name="to_world"><rotate y="1" angle="30"/><scale value="4"/></transform></volume>"#,
@@ -459,6 +454,39 @@ fn a_constant_sigma_t_inside_a_shape_its_box_holds_is_a_homogeneous_interior() {
     assert_eq!(albedo.map(|c| c.0), Some([0.6; 3]));
     assert!(matches!(phase, Some(PhaseDesc::Hg { g }) if g == 0.8));
     assert!(bounds.is_none() && !global && transform.is_none());
+}
+
+/// A constant σt whose box does not hold its shape: Mitsuba clips the
+/// medium to the box, which brume's interiors cannot, so Mitsuba's
+/// interface rule is kept with the medium in its box (σt 2 over the unit
+/// cube [0, 1]³, inside the cube [-1, 1]³).
+#[test]
+fn a_constant_sigma_t_whose_box_does_not_hold_its_shape_keeps_mitsubas_rule_in_its_box() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.xml");
+    std::fs::write(
+        &path,
+        r#"<scene version="3.0.0"><sensor type="perspective"><transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform></sensor>
+<medium type="heterogeneous" id="m"><float name="sigma_t" value="2"/></medium>
+<shape type="cube"><bsdf type="null"/><ref name="interior" id="m"/></shape></scene>"#,
+    )
+    .unwrap();
+    let desc = brume::scene::mitsuba::import(&path, Vec::new())
+        .unwrap_or_else(|e| panic!("{e}"))
+        .desc;
+    let rule = desc.interfaces.expect("interface rule");
+    assert_eq!(rule.shapes, vec![Some([Some(0), None])]);
+    let [MediumDesc::Homogeneous {
+        sigma_t,
+        bounds: Some(BoundsDesc::Box { min, max }),
+        ..
+    }] = &desc.media[..]
+    else {
+        panic!("not one boxed homogeneous medium: {:?}", desc.media)
+    };
+    assert_eq!(sigma_t.map(|c| c.0), Some([2.0; 3]));
+    assert_eq!((*min, *max), ([0.0; 3], [1.0; 3]));
+    assert!(desc.shapes[0].interior.is_none());
 }
 
 /// Around the camera and every shape, a constant σt is a `[[medium]]`

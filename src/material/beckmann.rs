@@ -43,7 +43,10 @@ impl Microfacet for Beckmann {
     }
 
     fn lambda(&self, w: Vec3) -> f32 {
-        if w.z <= 0.0 {
+        // A direction below the macro surface (a refracted one) is masked
+        // by the facets as seen from its own side: Λ depends on |cos θ|,
+        // as GGX's does. Refusing it (Λ = ∞) zeroed every transmission.
+        if w.z == 0.0 {
             return f32::INFINITY;
         }
         let sin = ((w.x * w.x + w.y * w.y) as f64).sqrt();
@@ -52,7 +55,7 @@ impl Microfacet for Beckmann {
         }
         // a = 1 / (α tan θ); Λ = (erf(a) − 1)/2 + e^(−a²) / (2a√π), in f64
         // because the two terms nearly cancel for steep directions.
-        let a = w.z as f64 / (self.alpha as f64 * sin);
+        let a = w.z.abs() as f64 / (self.alpha as f64 * sin);
         let spi = std::f64::consts::PI.sqrt();
         (0.5 * ((-a * a).exp() / (a * spi) - erfc(a))).max(0.0) as f32
     }

@@ -76,6 +76,9 @@ pub(crate) struct Loader {
     chain: Vec<PathBuf>,
     /// Every XML file read.
     pub files: Vec<PathBuf>,
+    /// The folder of the scene file itself: Mitsuba's file resolver searches
+    /// it for every file, also for files named in included XML.
+    scene_dir: PathBuf,
 }
 
 impl Loader {
@@ -86,11 +89,13 @@ impl Loader {
             search: Vec::new(),
             chain: Vec::new(),
             files: Vec::new(),
+            scene_dir: PathBuf::from("."),
         }
     }
 
     /// The `<scene>` element of `path` with its includes spliced in.
     pub fn load(&mut self, path: &Path) -> Result<Node> {
+        self.scene_dir = folder(path);
         self.read(path, None)
     }
 
@@ -219,27 +224,35 @@ impl Loader {
     /// `<include filename>`: the children of the included file's `<scene>`.
     fn include(&mut self, node: &Node) -> Result<Vec<Node>> {
         let name = node.required("filename")?;
-        let path = self.find_file(name, node)?;
+        let path = self.find(name, node, true)?;
         let scene = self.read(&path, Some(node))?;
         Ok(scene.children)
     }
 
     /// A file named in the scene: the `<path>` folders (latest first), then
-    /// the folder of the file that names it.
+    /// the folder of the file that names it, then the scene file's folder.
     pub fn find_file(&self, name: &str, node: &Node) -> Result<PathBuf> {
+        self.find(name, node, false)
+    }
+
+    /// As [`Loader::find_file`]; an include (`includer_first`) looks in its
+    /// own file's folder first, as Mitsuba's parser does. The file is
+    /// returned absolute because brume resolves a relative path in the
+    /// description against the scene's folder, which would add it twice.
+    fn find(&self, name: &str, node: &Node, includer_first: bool) -> Result<PathBuf> {
         let written = Path::new(name);
         if written.is_absolute() {
             return Ok(written.to_path_buf());
         }
         let own = folder(&node.file);
-        let candidates: Vec<PathBuf> = self
-            .search
-            .iter()
-            .map(|d| d.join(written))
-            .chain(std::iter::once(own.join(written)))
-            .collect();
+        let mut folders: Vec<&Path> = self.search.iter().map(PathBuf::as_path).collect();
+        folders.insert(if includer_first { 0 } else { folders.len() }, &own);
+        folders.push(&self.scene_dir);
+        folders.dedup();
+        let candidates: Vec<PathBuf> = folders.iter().map(|d| d.join(written)).collect();
         match candidates.iter().find(|c| c.is_file()) {
-            Some(found) => Ok(found.clone()),
+            Some(found) => std::path::absolute(found)
+                .map_err(|e| node.error(format!("{}: {e}", found.display()))),
             None => Err(node.error(format!(
                 "file `{name}` not found (looked in {})",
                 candidates

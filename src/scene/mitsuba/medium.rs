@@ -62,29 +62,33 @@ pub(crate) fn place<'a>(
         Some(global) if one_outside && global_agrees(shapes, sensor, *global) => {
             place_global(ctx, shapes, *global)
         }
-        None if interiors_agree(shapes, sensor, eye) => place_interiors(ctx, shapes),
+        None if interiors_agree(shapes, sensor, eye) => match place_interiors(ctx, shapes)? {
+            Some(placed) => Ok(placed),
+            None => place_interfaces(ctx, shapes, sensor),
+        },
         _ => place_interfaces(ctx, shapes, sensor),
     }
 }
 
-/// Media inside shapes only: each shape's interior by containment.
-fn place_interiors<'a>(ctx: &Ctx<'a>, shapes: &[Imported<'a>]) -> Result<Placed<'a>> {
+/// Media inside shapes only: each shape's interior by containment, or
+/// `None` when a medium's box does not hold its shape (containment would
+/// fill the whole shape, Mitsuba's rule keeps the medium in its box).
+fn place_interiors<'a>(ctx: &Ctx<'a>, shapes: &[Imported<'a>]) -> Result<Option<Placed<'a>>> {
     let mut interiors = Vec::new();
     for s in shapes {
         interiors.push(match s.interior {
-            Some(m) => Some(heterogeneous::fit_interior(
-                read(ctx, m.node)?,
-                s.bounds,
-                m.node,
-            )?),
+            Some(m) => match heterogeneous::fit_interior(read(ctx, m.node)?, s.bounds) {
+                Some(fitted) => Some(fitted),
+                None => return Ok(None),
+            },
             None => None,
         });
     }
-    Ok(Placed {
+    Ok(Some(Placed {
         interiors,
         media: Vec::new(),
         interfaces: None,
-    })
+    }))
 }
 
 /// True when containment and Mitsuba's rule agree for media inside shapes:
@@ -113,7 +117,7 @@ fn medium_shape_agrees(
         return false;
     }
     let Some((lo, hi)) = s.bounds else {
-        return true; // OBJ bounds are not known before the mesh is read
+        return true; // a mesh file that cannot be read (building the scene reports it)
     };
     let overlapped = shapes.iter().enumerate().any(|(j, other)| {
         let Some((olo, ohi)) = other.bounds else {

@@ -122,7 +122,9 @@ fn geometry(ctx: &Ctx, p: &Props, kind: &str, flip: bool) -> Result<(ShapeDesc, 
         "obj" | "ply" => {
             mesh(ctx, p, &mut desc)?;
             desc.transform = to_brume(&to_world, at)?;
-            None
+            let file = desc.file.as_deref().expect("mesh() sets the file");
+            mesh_bounds(file, kind)
+                .map(|(lo, hi)| box_bounds(&to_world, (lo + hi) / 2.0, (hi - lo) / 2.0))
         }
         _ => {
             return Err(unsupported(
@@ -275,6 +277,27 @@ fn flip_closed(
         }
         _ => Ok(()),
     }
+}
+
+/// The box of a mesh file's vertices, so that media placement sees meshes
+/// nested in or overlapping medium shapes. A file that cannot be read gives
+/// none here: building the scene reads it again and reports the problem.
+fn mesh_bounds(file: &std::path::Path, kind: &str) -> Option<(DVec3, DVec3)> {
+    let positions: Vec<DVec3> = if kind == "ply" {
+        let bytes = std::fs::read(file).ok()?;
+        let mesh = crate::scene::ply::parse(&bytes).ok()?;
+        mesh.positions.iter().map(|v| v.as_dvec3()).collect()
+    } else {
+        let (models, _) = tobj::load_obj(file, &tobj::LoadOptions::default()).ok()?;
+        models
+            .iter()
+            .flat_map(|m| m.mesh.positions.chunks_exact(3))
+            .map(|v| DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64))
+            .collect()
+    };
+    let lo = positions.iter().copied().reduce(DVec3::min)?;
+    let hi = positions.iter().copied().reduce(DVec3::max)?;
+    Some((lo, hi))
 }
 
 /// World bounds of the local box `center ± half` mapped by `m`.

@@ -137,18 +137,18 @@ fn unit_cube_box(to_world: &DMat4, at: &Node) -> Result<([f32; 3], [f32; 3])> {
 
 /// A constant-σt medium (bounded by a box) inside a shape whose world
 /// bounds are `shape`: the box is moot where it holds the shape (within a
-/// millionth of its size, for rounding of the two transforms); brume cannot
-/// clip an interior to a box, so any other arrangement is refused at `at`.
+/// millionth of its size, for rounding of the two transforms). brume cannot
+/// clip an interior to a box, so any other arrangement is `None`: the
+/// caller keeps Mitsuba's interface rule, where the medium stays in its box.
 pub(super) fn fit_interior(
     mut medium: MediumDesc,
     shape: Option<(DVec3, DVec3)>,
-    at: &Node,
-) -> Result<MediumDesc> {
+) -> Option<MediumDesc> {
     let MediumDesc::Homogeneous { bounds, .. } = &mut medium else {
-        return Ok(medium);
+        return Some(medium);
     };
     let Some(BoundsDesc::Box { min, max }) = bounds else {
-        return Ok(medium);
+        return Some(medium);
     };
     let (lo, hi) = (
         DVec3::from(min.map(f64::from)),
@@ -158,15 +158,10 @@ pub(super) fn fit_interior(
     let holds = shape
         .is_some_and(|(slo, shi)| (lo - slack).cmple(slo).all() && shi.cmple(hi + slack).all());
     if !holds {
-        return Err(unsupported(
-            at,
-            "a heterogeneous medium with a constant sigma_t inside a shape its box does not \
-             hold (Mitsuba clips the medium to the constant volume's box; brume cannot clip an \
-             interior)",
-        ));
+        return None;
     }
     *bounds = None;
-    Ok(medium)
+    Some(medium)
 }
 
 /// `key` as a constant or a grid volume.
