@@ -253,3 +253,42 @@ fn bad_keys_of_the_new_materials_name_the_key() {
         assert!(!err.contains('\n'), "{err}");
     }
 }
+
+/// The straight transmission through a thin sheet is not a scattering event
+/// (Mitsuba's volpath counts it as index-matched): at `max_depth = 0` the eye
+/// still sees an emitter behind the sheet, dimmed by the sheet's 1 − R with
+/// R = 2R₀ / (1 + R₀) at normal incidence. Counted as an event, it was black.
+#[test]
+fn a_thin_sheets_transmission_is_no_scattering_event() {
+    let scene = scene_from_str(
+        r#"
+[camera]
+position = [0.0, 0.0, 4.0]
+look_at = [0.0, 0.0, 0.0]
+fov = 1.0
+resolution = [4, 4]
+[integrator]
+max_depth = 0
+[[shape]]
+type = "quad"
+center = [0.0, 0.0, 1.0]
+normal = [0.0, 0.0, 1.0]
+size = [2.0, 2.0]
+material = { type = "thin_dielectric", ior = 1.5 }
+[[shape]]
+type = "quad"
+center = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+size = [2.0, 2.0]
+emission = 2.0
+"#,
+    );
+    let r0 = ((1.5f64 - 1.0) / (1.5 + 1.0)).powi(2);
+    let transmitted = 2.0 * (1.0 - 2.0 * r0 / (1.0 + r0));
+    let pixels = estimate_pixels(&scene, 4096);
+    assert_pixels_equal(
+        &pixels,
+        [transmitted; 3],
+        "an emitter behind a thin sheet, max_depth 0",
+    );
+}

@@ -394,10 +394,55 @@ fn trace_segment<G: Gather>(
     if let Some(interfaces) = scene.interfaces.as_ref().filter(|i| i.is_null(hit.shape)) {
         return pass_through(interfaces, path, &hit);
     }
+    if let Material::ThinDielectric { ior } = scene.shape_materials[hit.shape as usize] {
+        return thin_sheet(scene, path, &hit, ior, sampler);
+    }
     if path.emission_only {
         return Step::Stop;
     }
     surface_vertex(scene, path, &hit, sampler, gather)
+}
+
+/// A thin dielectric sheet: reflection (probability R) is a scattering
+/// event; the straight transmission (1 − R) is not, as Mitsuba's volpath
+/// counts it (an index-matched event): the ray goes on unbent past any
+/// depth limit, in the medium on the side it enters. Both lobes are Dirac
+/// with weight 1 (f = R or 1 − R, drawn with that probability), so the
+/// light the ray meets next is taken unweighted: next-event estimation's
+/// shadow rays stop at the sheet.
+fn thin_sheet(
+    scene: &Scene,
+    path: &mut PathState,
+    hit: &SurfaceHit,
+    ior: f32,
+    sampler: &mut Sampler,
+) -> Step {
+    let wo = -path.ray.direction;
+    let shading = Shading::facing(hit.shading_normal, wo);
+    let cos_o = shading.n.dot(wo);
+    let reflectance = crate::material::layered::thin_reflectance(cos_o, ior);
+    let reflects = sampler.next_1d() < reflectance;
+    if reflects && path.emission_only {
+        return Step::Stop;
+    }
+    let wi = if reflects {
+        2.0 * cos_o * shading.n - wo
+    } else {
+        -wo
+    };
+    if let Some(interfaces) = &scene.interfaces {
+        path.medium = interfaces.after(hit.shape, hit.geometric_normal, wi, path.medium);
+    }
+    let ray = path
+        .ray
+        .spawn(offset_origin(hit.p, hit.geometric_normal, wi), wi);
+    path.prev_normal = Some(shading.n);
+    if !reflects {
+        path.prev_delta = true;
+        path.ray = ray;
+        return Step::Continue;
+    }
+    continue_path(scene, path, ray, (reflectance, true, false), hit.p, sampler)
 }
 
 /// A ray crossing a surfaceless shape under the interface rule: it goes on
