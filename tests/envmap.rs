@@ -7,7 +7,7 @@ use analytic_support::common::{assert_pixels_equal, estimate_pixels, scene_from_
 use analytic_support::SceneText;
 use analytic_support::{assert_estimate, estimate_li};
 use brume::film::image_io::{write_exr, Image};
-use brume::light::envmap::EnvMap;
+use brume::light::envmap::{EnvMap, Filter};
 use brume::math::color::Rgb;
 use brume::math::{Quat, Ray, Vec3};
 use brume::sampling::chi2::{chi2_survival, sidak_alpha};
@@ -55,19 +55,28 @@ fn write_map(dir: &Path, name: &str, width: usize, height: usize, texels: Vec<Rg
 /// Gauss–Legendre quadrature over θ and φ with dω = sinθ dθ dφ. This checks
 /// the sampler, the pdf and the Jacobian 2π² sinθ between them. (Bins are
 /// texels because the pdf is discontinuous at texel edges: cells straddling
-/// them would make the quadrature crawl.)
+/// them would make the quadrature crawl.) Both filters: a bilinear map is
+/// sampled by its own table (the neighbourhood maxima).
 #[test]
 fn map_sampling_follows_its_pdf() {
     let (w, h) = (12, 6);
     let n = 200_000;
-    for (k, rotation) in [
-        Quat::IDENTITY,
-        Quat::from_rotation_x(1.1) * Quat::from_rotation_y(0.4),
+    for (k, (rotation, filter)) in [
+        (Quat::IDENTITY, Filter::Nearest),
+        (
+            Quat::from_rotation_x(1.1) * Quat::from_rotation_y(0.4),
+            Filter::Nearest,
+        ),
+        (Quat::IDENTITY, Filter::Bilinear),
+        (
+            Quat::from_rotation_x(1.1) * Quat::from_rotation_y(0.4),
+            Filter::Bilinear,
+        ),
     ]
     .into_iter()
     .enumerate()
     {
-        let map = EnvMap::new(w, h, test_texels(w, h), Rgb::WHITE, rotation).unwrap();
+        let map = EnvMap::filtered(w, h, test_texels(w, h), Rgb::WHITE, rotation, filter).unwrap();
         let mut observed = vec![0.0f64; w * h];
         let mut rng = brume::sampling::Sampler::from_seed(40 + k as u64);
         for _ in 0..n {
@@ -81,43 +90,66 @@ fn map_sampling_follows_its_pdf() {
             observed[y * w + x] += 1.0;
         }
         let (mut statistic, mut dof) = (0.0, 0usize);
+        // Texels expecting fewer than 20 samples share one bin.
+        let (mut pooled_observed, mut pooled_expected) = (0.0, 0.0);
         for y in 0..h {
             for x in 0..w {
-                let (t0, p0) = (PI * y as f64 / h as f64, 2.0 * PI * x as f64 / w as f64);
-                let integral = gauss_legendre(
-                    |t| {
-                        gauss_legendre(
-                            |p| {
-                                let local = Vec3::new(
-                                    (t.sin() * p.cos()) as f32,
-                                    t.cos() as f32,
-                                    (t.sin() * p.sin()) as f32,
-                                );
-                                map.pdf(rotation * local) as f64 * t.sin()
-                            },
-                            p0 + 1e-6,
-                            p0 + 2.0 * PI / w as f64 - 1e-6,
-                            1,
-                        )
-                    },
-                    t0 + 1e-6,
-                    t0 + PI / h as f64 - 1e-6,
-                    1,
-                );
-                let expected = n as f64 * integral;
-                assert!(expected > 20.0, "texel ({x}, {y}) expects {expected}");
+                let expected = n as f64 * texel_probability(&map, rotation, (w, h), (x, y));
+                if expected < 20.0 {
+                    pooled_observed += observed[y * w + x];
+                    pooled_expected += expected;
+                    continue;
+                }
                 statistic += (observed[y * w + x] - expected).powi(2) / expected;
                 dof += 1;
             }
         }
+        if pooled_expected > 0.0 {
+            assert!(
+                pooled_expected > 20.0,
+                "pooled texels expect {pooled_expected}"
+            );
+            statistic += (pooled_observed - pooled_expected).powi(2) / pooled_expected;
+            dof += 1;
+        }
         let p_value = chi2_survival(statistic, dof - 1);
-        // Two tests at family-wise level 1%.
+        // Four tests at family-wise level 1%.
         assert!(
-            p_value >= sidak_alpha(0.01, 2),
+            p_value >= sidak_alpha(0.01, 4),
             "rotation {k}: χ² = {statistic}, dof {}, p = {p_value}\n{observed:?}",
             dof - 1
         );
     }
+}
+
+/// ∫texel (x, y) pdf(ω) dω by Gauss–Legendre quadrature over θ and φ.
+fn texel_probability(
+    map: &EnvMap,
+    rotation: Quat,
+    (w, h): (usize, usize),
+    (x, y): (usize, usize),
+) -> f64 {
+    let (t0, p0) = (PI * y as f64 / h as f64, 2.0 * PI * x as f64 / w as f64);
+    gauss_legendre(
+        |t| {
+            gauss_legendre(
+                |p| {
+                    let local = Vec3::new(
+                        (t.sin() * p.cos()) as f32,
+                        t.cos() as f32,
+                        (t.sin() * p.sin()) as f32,
+                    );
+                    map.pdf(rotation * local) as f64 * t.sin()
+                },
+                p0 + 1e-6,
+                p0 + 2.0 * PI / w as f64 - 1e-6,
+                1,
+            )
+        },
+        t0 + 1e-6,
+        t0 + PI / h as f64 - 1e-6,
+        1,
+    )
 }
 
 /// A sphere of `material` under the light `light` (the keys of its table), in the furnace's view.
@@ -134,9 +166,13 @@ fn a_constant_map_renders_like_the_constant_environment() {
     let dir = tempfile::tempdir().unwrap();
     let file = write_map(dir.path(), "one.exr", 16, 8, vec![Rgb::WHITE; 128]);
     let white = "{ type = \"diffuse\", albedo = 1.0 }";
-    for (scale, rotate) in [(1.0, "[0.0, 0.0, 0.0]"), (2.0, "[30.0, 60.0, 10.0]")] {
+    for (scale, rotate, filter) in [
+        (1.0, "[0.0, 0.0, 0.0]", "nearest"),
+        (2.0, "[30.0, 60.0, 10.0]", "nearest"),
+        (2.0, "[30.0, 60.0, 10.0]", "bilinear"),
+    ] {
         let light = format!(
-            "type = \"environment_map\"\nfile = \"{file}\"\nscale = {scale}\nrotate = {rotate}"
+            "type = \"environment_map\"\nfile = \"{file}\"\nscale = {scale}\nrotate = {rotate}\nfilter = \"{filter}\""
         );
         let scene = scene_from_str(&sphere_scene(&light, white));
         assert_pixels_equal(&estimate_pixels(&scene, 128), [scale; 3], "map furnace");
@@ -244,5 +280,126 @@ fn bad_maps_name_the_key() {
             err.contains("light[0].file") && err.contains(needle),
             "{light}: {err}"
         );
+    }
+}
+
+/// Unrotated direction of map coordinates (u, v).
+fn map_direction(u: f32, v: f32) -> Vec3 {
+    let (sin_t, cos_t) = (std::f32::consts::PI * v).sin_cos();
+    let (sin_p, cos_p) = (2.0 * std::f32::consts::PI * u).sin_cos();
+    Vec3::new(sin_t * cos_p, cos_t, sin_t * sin_p)
+}
+
+fn two_texels(width: usize, height: usize, filter: Filter) -> EnvMap {
+    let texels = vec![Rgb::splat(1.0), Rgb::splat(3.0)];
+    EnvMap::filtered(width, height, texels, Rgb::WHITE, Quat::IDENTITY, filter).unwrap()
+}
+
+/// A 2 × 1 map (texels 1 and 3, centres at u = ¼ and ¾) and a 1 × 2 one
+/// (rows 1 and 3, centres at v = ¼ and ¾): bilinear equals nearest at the
+/// centres, is the mean halfway, wraps across u = 0 and is clamped to the
+/// first or last row within half a texel of a pole.
+#[test]
+fn bilinear_maps_interpolate_between_texel_centres() {
+    let (nearest, bilinear) = (
+        two_texels(2, 1, Filter::Nearest),
+        two_texels(2, 1, Filter::Bilinear),
+    );
+    for (u, near, bilin) in [
+        (0.25, 1.0, 1.0),
+        (0.75, 3.0, 3.0),
+        (0.45, 1.0, 1.8),
+        (0.55, 3.0, 2.2),
+        (0.05, 1.0, 1.8),
+        (0.95, 3.0, 2.2),
+    ] {
+        let d = map_direction(u, 0.5);
+        let (n, b) = (nearest.radiance(d).g, bilinear.radiance(d).g);
+        assert!(
+            (n - near).abs() < 1e-3 && (b - bilin).abs() < 1e-3,
+            "u = {u}: {n}, {b}"
+        );
+    }
+    let (nearest, bilinear) = (
+        two_texels(1, 2, Filter::Nearest),
+        two_texels(1, 2, Filter::Bilinear),
+    );
+    for (v, near, bilin) in [
+        (0.02, 1.0, 1.0),
+        (0.1, 1.0, 1.0),
+        (0.4, 1.0, 1.6),
+        (0.6, 3.0, 2.4),
+        (0.9, 3.0, 3.0),
+        (0.98, 3.0, 3.0),
+    ] {
+        let d = map_direction(0.3, v);
+        let (n, b) = (nearest.radiance(d).g, bilinear.radiance(d).g);
+        assert!(
+            (n - near).abs() < 1e-3 && (b - bilin).abs() < 1e-3,
+            "v = {v}: {n}, {b}"
+        );
+    }
+}
+
+/// A constant map is the same constant bilinearly filtered, exactly.
+#[test]
+fn a_bilinear_constant_map_equals_the_nearest_one() {
+    let c = Rgb::new(0.3, 1.7, 2.9);
+    let rotation = Quat::from_rotation_x(0.3) * Quat::from_rotation_y(1.2);
+    let map = |filter| EnvMap::filtered(7, 5, vec![c; 35], Rgb::WHITE, rotation, filter).unwrap();
+    let (nearest, bilinear) = (map(Filter::Nearest), map(Filter::Bilinear));
+    let mut rng = brume::sampling::Sampler::from_seed(5);
+    for _ in 0..2000 {
+        let s = bilinear.sample(rng.next_2d()).expect("a sample");
+        assert_eq!(s.radiance, c);
+        assert_eq!(bilinear.radiance(s.wi), nearest.radiance(s.wi));
+        assert_eq!(bilinear.pdf(s.wi), nearest.pdf(s.wi));
+    }
+}
+
+/// Unbiased: wherever the bilinear radiance of a map with one lit texel is
+/// positive (that texel and its neighbours' inner halves), so is the pdf.
+#[test]
+fn a_bilinear_map_is_sampled_wherever_it_shines() {
+    let (w, h) = (6, 4);
+    let mut texels = vec![Rgb::BLACK; w * h];
+    texels[w + 5] = Rgb::splat(2.0); // row 1, the last column: its neighbours wrap
+    let map = EnvMap::filtered(w, h, texels, Rgb::WHITE, Quat::IDENTITY, Filter::Bilinear).unwrap();
+    let mut rng = brume::sampling::Sampler::from_seed(9);
+    let mut lit = 0;
+    for _ in 0..20_000 {
+        let uv = rng.next_2d();
+        let d = map_direction(uv.x, uv.y.clamp(1e-3, 1.0 - 1e-3));
+        if map.radiance(d).g > 0.0 {
+            lit += 1;
+            assert!(
+                map.pdf(d) > 0.0,
+                "{uv}: radiance {:?}, pdf 0",
+                map.radiance(d)
+            );
+        }
+    }
+    // about 2 × 2 texels' worth of the 24
+    assert!(lit > 20_000 / 12 / 2, "{lit}");
+}
+
+/// `filter` is "nearest" (the default) or "bilinear"; anything else is refused by name.
+#[test]
+fn the_filter_key_takes_nearest_or_bilinear() {
+    let file = Path::new("map.toml");
+    for (filter, ok) in [
+        ("", true),
+        ("filter = \"nearest\"\n", true),
+        ("filter = \"bilinear\"\n", true),
+        ("filter = \"cubic\"\n", false),
+    ] {
+        let text = sphere_scene(
+            &format!("type = \"environment_map\"\nfile = \"sky.exr\"\n{filter}"),
+            "{ type = \"diffuse\", albedo = 0.5 }",
+        );
+        match brume::scene::parse(&text, file) {
+            Ok(_) => assert!(ok, "{filter} accepted"),
+            Err(e) => assert!(!ok && e.to_string().contains("filter"), "{filter}: {e}"),
+        }
     }
 }

@@ -2,8 +2,8 @@
 //! element and attribute becomes in brume's scene description.
 
 use brume::scene::description::{
-    ColorOrTexture, LightDesc, MaterialDesc, MediumDesc, MicrofacetDesc, PhaseDesc, SceneDesc,
-    ShapeType,
+    ColorOrTexture, LightDesc, MapFilterDesc, MaterialDesc, MediumDesc, MicrofacetDesc, PhaseDesc,
+    SceneDesc, ShapeType,
 };
 use brume::scene::mitsuba::import;
 use std::path::{Path, PathBuf};
@@ -344,18 +344,23 @@ fn emitters_take_mitsubas_defaults_and_the_envmap_turns_a_quarter() {
         matches!(desc.lights[2], LightDesc::Sun { direction: [0.0, 0.0, 1.0], angular_radius, .. } if angular_radius == 0.0)
     );
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sky.exr");
-    let env = load(
-        &format!(
-            r#"<emitter type="envmap"><string name="filename" value="{}"/><transform name="to_world"><rotate x="1" angle="90"/></transform></emitter>"#,
-            root.display()
-        ),
-        &[],
+    let xml = format!(
+        r#"<emitter type="envmap"><string name="filename" value="{}"/><transform name="to_world"><rotate x="1" angle="90"/></transform></emitter>"#,
+        root.display()
     );
+    let (_dir, path) = write(&[("scene.xml", &scene(&xml))]);
+    let imported = import(&path, vec![]).unwrap_or_else(|e| panic!("{e}"));
+    // Mitsuba's envmap is bilinear, and so is the imported map: no warning.
+    assert!(imported.warnings.is_empty(), "{:?}", imported.warnings);
+    let env = imported.desc;
     match &env.lights[0] {
         // Rx(90°)·Ry(90°): brume's rotate about X, then Y, then Z.
         LightDesc::EnvironmentMap {
-            rotate: Some(r), ..
+            rotate: Some(r),
+            filter,
+            ..
         } => {
+            assert_eq!(*filter, MapFilterDesc::Bilinear);
             let q = glam::Quat::from_rotation_z(r[2].to_radians())
                 * glam::Quat::from_rotation_y(r[1].to_radians())
                 * glam::Quat::from_rotation_x(r[0].to_radians());

@@ -4,16 +4,33 @@
 //! Convention (in the map's own frame, before `rotation`): texel column u ∈
 //! [0, 1) is the azimuth φ = 2πu measured from +X toward +Z, row v ∈ [0, 1)
 //! is the polar angle θ = πv from +Y (row 0 is straight up), so
-//! `dir = (sinθ cosφ, cosθ, sinθ sinφ)`. Radiance is constant over a texel.
+//! `dir = (sinθ cosφ, cosθ, sinθ sinφ)`. With [`Filter::Nearest`] radiance
+//! is constant over a texel; with [`Filter::Bilinear`] it is interpolated
+//! between texel centres ((x + ½)/width, (y + ½)/height), wrapping in u and
+//! clamped to the first and last rows toward the poles. The bilinear map is
+//! sampled by a piecewise-constant table whose texel weight is the largest
+//! luminance among the 3 × 3 texels its interpolation touches, so the
+//! density is positive wherever the interpolated radiance is.
 
 use crate::math::color::Rgb;
 use crate::math::{Quat, Vec2, Vec3};
 use crate::sampling::distribution::Distribution2D;
 use std::f32::consts::PI;
 
+/// How radiance varies across a texel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Filter {
+    /// Constant over the texel.
+    #[default]
+    Nearest,
+    /// Bilinear between texel centres (Mitsuba 3's `envmap`).
+    Bilinear,
+}
+
 /// An environment map with its sampling distribution.
 #[derive(Clone, Debug)]
 pub struct EnvMap {
+    filter: Filter,
     width: usize,
     height: usize,
     /// Row-major texels (row 0 at the zenith), already multiplied by the scale.
@@ -45,17 +62,36 @@ impl EnvMap {
         scale: Rgb,
         rotation: Quat,
     ) -> Option<EnvMap> {
+        EnvMap::filtered(width, height, texels, scale, rotation, Filter::Nearest)
+    }
+
+    /// [`EnvMap::new`] with radiance filtered by `filter`.
+    pub fn filtered(
+        width: usize,
+        height: usize,
+        texels: Vec<Rgb>,
+        scale: Rgb,
+        rotation: Quat,
+        filter: Filter,
+    ) -> Option<EnvMap> {
         if width == 0 || height == 0 || texels.len() != width * height {
             return None;
         }
         let texels: Vec<Rgb> = texels.into_iter().map(|t| t * scale).collect();
+        let luminance: Vec<f32> = texels.iter().map(|t| t.luminance().max(0.0)).collect();
         let mut weights = Vec::with_capacity(texels.len());
-        for (i, t) in texels.iter().enumerate() {
-            let sin_theta = (PI * ((i / width) as f32 + 0.5) / height as f32).sin();
-            weights.push(t.luminance().max(0.0) * sin_theta);
+        for (i, &l) in luminance.iter().enumerate() {
+            let (x, y) = (i % width, i / width);
+            let sin_theta = (PI * (y as f32 + 0.5) / height as f32).sin();
+            let l = match filter {
+                Filter::Nearest => l,
+                Filter::Bilinear => neighbourhood_max(&luminance, width, height, x, y),
+            };
+            weights.push(l * sin_theta);
         }
         let distribution = Distribution2D::new(&weights, width, height)?;
         Some(EnvMap {
+            filter,
             width,
             height,
             texels,
@@ -86,13 +122,41 @@ impl EnvMap {
         self.rotation * Vec3::new(sin_t * cos_p, cos_t, sin_t * sin_p)
     }
 
+    /// Radiance at map coordinates `uv`, filtered.
     fn texel(&self, uv: Vec2) -> Rgb {
-        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
-        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
-        self.texels[y * self.width + x]
+        match self.filter {
+            Filter::Nearest => {
+                let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
+                let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
+                self.texels[y * self.width + x]
+            }
+            Filter::Bilinear => self.bilinear(uv),
+        }
     }
 
-    /// Radiance averaged over the sphere (each texel weighted by its solid angle, ∝ sin θ).
+    /// Bilinear interpolation between texel centres: wrapping in u, clamped
+    /// to the first or last row within half a texel of a pole.
+    fn bilinear(&self, uv: Vec2) -> Rgb {
+        let (w, h) = (self.width, self.height);
+        let fx = uv.x * w as f32 - 0.5;
+        let floor_x = fx.floor();
+        let tx = fx - floor_x;
+        let x0 = (floor_x as isize).rem_euclid(w as isize) as usize;
+        let x1 = (x0 + 1) % w;
+        let fy = (uv.y * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
+        let y0 = (fy as usize).min(h - 1);
+        let ty = fy - y0 as f32;
+        let y1 = (y0 + 1).min(h - 1);
+        let at = |x: usize, y: usize| self.texels[y * w + x];
+        // a + (b − a)·t: exact where neighbours are equal (a constant map).
+        let lerp = |a: Rgb, b: Rgb, t: f32| a + (b - a) * t;
+        let top = lerp(at(x0, y0), at(x1, y0), tx);
+        let bottom = lerp(at(x0, y1), at(x1, y1), tx);
+        lerp(top, bottom, ty)
+    }
+
+    /// Radiance averaged over the sphere (each texel weighted by its solid
+    /// angle, ∝ sin θ; the texel values, also for a bilinear map).
     pub fn average(&self) -> Rgb {
         let mut sum = [0.0f64; 3];
         let mut weight = 0.0f64;
@@ -141,6 +205,20 @@ impl EnvMap {
             pdf: pdf_uv / (2.0 * PI * PI * sin_theta),
         })
     }
+}
+
+/// The largest of `luminance` over texel (x, y) and its eight neighbours
+/// (wrapping in x, clamped in y): every texel a bilinear lookup inside
+/// texel (x, y) can weigh.
+fn neighbourhood_max(luminance: &[f32], width: usize, height: usize, x: usize, y: usize) -> f32 {
+    let mut max = 0.0f32;
+    for dy in [-1isize, 0, 1] {
+        let yy = (y as isize + dy).clamp(0, height as isize - 1) as usize;
+        for dx in [width - 1, 0, 1] {
+            max = max.max(luminance[yy * width + (x + dx) % width]);
+        }
+    }
+    max
 }
 
 #[cfg(test)]

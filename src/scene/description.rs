@@ -485,6 +485,9 @@ pub enum LightDesc {
         /// Rotation of the map in degrees about X, then Y, then Z.
         #[serde(default)]
         rotate: Option<[f32; 3]>,
+        /// `"nearest"` (constant texels) or `"bilinear"`.
+        #[serde(default)]
+        filter: MapFilterDesc,
     },
     /// Sky gradient environment.
     Sky {
@@ -645,6 +648,23 @@ fn default_plastic_diffuse() -> ColorOrTexture {
 
 fn default_plastic_specular() -> Color {
     Color([1.0; 3])
+}
+
+/// `filter` of an environment map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MapFilterDesc {
+    /// Radiance constant over a texel.
+    #[default]
+    Nearest,
+    /// Bilinear between texel centres (Mitsuba 3's `envmap`).
+    Bilinear,
+}
+
+impl<'de> Deserialize<'de> for MapFilterDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<MapFilterDesc, D::Error> {
+        let i = super::messages::one_of(d, &["nearest", "bilinear"])?;
+        Ok([MapFilterDesc::Nearest, MapFilterDesc::Bilinear][i])
+    }
 }
 
 /// `cone_edge` of a spot light.

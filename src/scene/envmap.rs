@@ -1,22 +1,23 @@
 //! `type = "environment_map"` lights: reading the EXR or Radiance HDR and checking its texels.
 
-use super::description::Color;
+use super::description::{Color, MapFilterDesc};
 use super::files::{check_input, Format};
 use super::textures::MAX_TEXTURE_BYTES;
 use super::validate::Check;
 use crate::error::Result;
-use crate::light::envmap::EnvMap;
+use crate::light::envmap::{EnvMap, Filter};
 use crate::math::color::Rgb;
 use crate::math::Quat;
 use std::path::Path;
 
-/// Loads the map in `path` with `scale` and `rotate` (degrees about X, then Y, then Z).
+/// Loads the map in `path` with `scale` and `rotate` (degrees about X, then
+/// Y, then Z), filtered by `filter`.
 pub(super) fn build(
     check: &Check,
     field: &str,
     path: &Path,
-    scale: Color,
-    rotate: Option<[f32; 3]>,
+    (scale, rotate): (Color, Option<[f32; 3]>),
+    filter: MapFilterDesc,
 ) -> Result<EnvMap> {
     let file_field = format!("{field}.file");
     let what = "environment map";
@@ -54,7 +55,11 @@ pub(super) fn build(
         false => format!("{field}.scale"),
     };
     check_scaled(check, &scale_field, &texels, scale)?;
-    EnvMap::new(width, height, texels, scale, rotation).ok_or_else(|| {
+    let filter = match filter {
+        MapFilterDesc::Nearest => Filter::Nearest,
+        MapFilterDesc::Bilinear => Filter::Bilinear,
+    };
+    EnvMap::filtered(width, height, texels, scale, rotation, filter).ok_or_else(|| {
         check.error(
             &file_field,
             format!("environment map {} is black everywhere", path.display()),

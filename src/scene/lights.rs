@@ -104,12 +104,13 @@ fn build_light(desc: &LightDesc, field: &str, check: &Check, base: &Path) -> Res
             file,
             scale,
             rotate,
+            filter,
         } => Light::Environment(Environment::Map(std::sync::Arc::new(envmap::build(
             check,
             field,
             &resolve(base, file),
-            *scale,
-            *rotate,
+            (*scale, *rotate),
+            *filter,
         )?))),
         LightDesc::Sky {
             zenith,

@@ -5,7 +5,7 @@ use super::transform::rotate_degrees;
 use super::values::{ColorParam, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{Color, LightDesc, SpotEdgeDesc};
+use crate::scene::description::{Color, LightDesc, MapFilterDesc, SpotEdgeDesc};
 use glam::{DMat3, DMat4, DVec3};
 
 /// A light of the scene (not an area emitter: those belong to shapes).
@@ -127,16 +127,11 @@ fn envmap(ctx: &Ctx, p: &Props, m: &DMat4) -> Result<LightDesc> {
         ));
     }
     let rotation = linear * DMat3::from_rotation_y(90f64.to_radians());
-    // Seen in Mitsuba's own test scenes: where the map is seen directly the
-    // two differ at the texel scale, and its light slightly.
-    ctx.warn(
-        p.owner,
-        "Mitsuba interpolates the map bilinearly (columns at texel centres, the first and \
-         last rows at the poles), brume's texels are constant over their cells",
-    );
+    // Mitsuba interpolates the map bilinearly.
     Ok(LightDesc::EnvironmentMap {
         file,
         scale: Color([scale; 3]),
         rotate: Some(rotate_degrees(&rotation).unwrap_or([0.0; 3])),
+        filter: MapFilterDesc::Bilinear,
     })
 }
