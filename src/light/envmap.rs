@@ -6,8 +6,10 @@
 //! is the polar angle θ = πv from +Y (row 0 is straight up), so
 //! `dir = (sinθ cosφ, cosθ, sinθ sinφ)`. With [`Filter::Nearest`] radiance
 //! is constant over a texel; with [`Filter::Bilinear`] it is interpolated
-//! between texel centres ((x + ½)/width, (y + ½)/height), wrapping in u and
-//! clamped to the first and last rows toward the poles. The bilinear map is
+//! as Mitsuba 3's `envmap` does: between column centres (x + ½)/width,
+//! wrapping in u, and between rows placed from pole to pole (row y at
+//! v = y/(height − 1): the first row is the zenith, the last the nadir).
+//! The bilinear map is
 //! sampled by a piecewise-constant table whose texel weight is the largest
 //! luminance among the 3 × 3 texels its interpolation touches, so the
 //! density is positive wherever the interpolated radiance is.
@@ -23,7 +25,7 @@ pub enum Filter {
     /// Constant over the texel.
     #[default]
     Nearest,
-    /// Bilinear between texel centres (Mitsuba 3's `envmap`).
+    /// Bilinear between column centres and rows from pole to pole (Mitsuba 3's `envmap`).
     Bilinear,
 }
 
@@ -134,8 +136,8 @@ impl EnvMap {
         }
     }
 
-    /// Bilinear interpolation between texel centres: wrapping in u, clamped
-    /// to the first or last row within half a texel of a pole.
+    /// Bilinear interpolation between column centres (wrapping in u) and
+    /// rows placed from pole to pole, Mitsuba's convention.
     fn bilinear(&self, uv: Vec2) -> Rgb {
         let (w, h) = (self.width, self.height);
         let fx = uv.x * w as f32 - 0.5;
@@ -143,7 +145,7 @@ impl EnvMap {
         let tx = fx - floor_x;
         let x0 = (floor_x as isize).rem_euclid(w as isize) as usize;
         let x1 = (x0 + 1) % w;
-        let fy = (uv.y * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
+        let fy = (uv.y * (h - 1) as f32).clamp(0.0, (h - 1) as f32);
         let y0 = (fy as usize).min(h - 1);
         let ty = fy - y0 as f32;
         let y1 = (y0 + 1).min(h - 1);
