@@ -292,3 +292,42 @@ emission = 2.0
         "an emitter behind a thin sheet, max_depth 0",
     );
 }
+
+/// ... and a depth limit still lets the path scatter behind the sheet: at
+/// `max_depth = 1` a diffuse wall seen through a sheet is lit by a point
+/// light in front of it, (1 − R)·ρ/π·I/d². Counted as an event, the
+/// crossing would use up the path's only scattering event and leave it black.
+#[test]
+fn a_wall_behind_a_thin_sheet_is_lit_at_max_depth_one() {
+    let scene = scene_from_str(
+        r#"
+[camera]
+position = [0.0, 0.0, 4.0]
+look_at = [0.0, 0.0, 0.0]
+fov = 0.1
+resolution = [4, 4]
+[integrator]
+max_depth = 1
+[[shape]]
+type = "quad"
+center = [0.0, 0.0, 2.0]
+normal = [0.0, 0.0, 1.0]
+size = [2.0, 2.0]
+material = { type = "thin_dielectric", ior = 1.5 }
+[[shape]]
+type = "quad"
+center = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+size = [2.0, 2.0]
+material = { type = "diffuse", albedo = 0.5 }
+[[light]]
+type = "point"
+position = [0.0, 0.0, 1.0]
+intensity = 3.0
+"#,
+    );
+    let r0 = ((1.5f64 - 1.0) / (1.5 + 1.0)).powi(2);
+    let lit = (1.0 - 2.0 * r0 / (1.0 + r0)) * 0.5 / std::f64::consts::PI * 3.0;
+    let pixels = estimate_pixels(&scene, 4096);
+    assert_pixels_equal(&pixels, [lit; 3], "a wall behind a thin sheet, max_depth 1");
+}
