@@ -254,41 +254,44 @@ fn bad_keys_of_the_new_materials_name_the_key() {
     }
 }
 
+/// Normal-incidence transmittance 1 − R of a thin sheet of index 1.5, with
+/// R = 2R₀ / (1 + R₀) for the two interfaces and their inner reflections.
+fn sheet_transmittance() -> f64 {
+    let r0 = ((1.5f64 - 1.0) / (1.5 + 1.0)).powi(2);
+    1.0 - 2.0 * r0 / (1.0 + r0)
+}
+
+/// A 4×4 view down −z at a 2 m thin sheet (index 1.5) at z = `sheet_z`, a
+/// 2 m quad at z = 0 behind it with the keys `behind`, and `rest`.
+fn through_a_sheet(
+    fov: f32,
+    max_depth: u32,
+    sheet_z: f32,
+    behind: &str,
+    rest: &str,
+) -> brume::integrator::Scene {
+    let quad = |z: f32| {
+        format!("[[shape]]\ntype = \"quad\"\ncenter = [0.0, 0.0, {z:?}]\nnormal = [0.0, 0.0, 1.0]\nsize = [2.0, 2.0]\n")
+    };
+    scene_from_str(&format!(
+        "[camera]\nposition = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nfov = {fov:?}\nresolution = [4, 4]\n\
+         [integrator]\nmax_depth = {max_depth}\n{}material = {{ type = \"thin_dielectric\", ior = 1.5 }}\n{}{behind}\n{rest}",
+        quad(sheet_z),
+        quad(0.0),
+    ))
+}
+
 /// The straight transmission through a thin sheet is not a scattering event
 /// (Mitsuba's volpath counts it as index-matched): at `max_depth = 0` the eye
-/// still sees an emitter behind the sheet, dimmed by the sheet's 1 − R with
-/// R = 2R₀ / (1 + R₀) at normal incidence. Counted as an event, it was black.
+/// still sees an emitter behind the sheet, dimmed by the sheet's 1 − R.
+/// Counted as an event, it was black.
 #[test]
 fn a_thin_sheets_transmission_is_no_scattering_event() {
-    let scene = scene_from_str(
-        r#"
-[camera]
-position = [0.0, 0.0, 4.0]
-look_at = [0.0, 0.0, 0.0]
-fov = 1.0
-resolution = [4, 4]
-[integrator]
-max_depth = 0
-[[shape]]
-type = "quad"
-center = [0.0, 0.0, 1.0]
-normal = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-material = { type = "thin_dielectric", ior = 1.5 }
-[[shape]]
-type = "quad"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-emission = 2.0
-"#,
-    );
-    let r0 = ((1.5f64 - 1.0) / (1.5 + 1.0)).powi(2);
-    let transmitted = 2.0 * (1.0 - 2.0 * r0 / (1.0 + r0));
+    let scene = through_a_sheet(1.0, 0, 1.0, "emission = 2.0", "");
     let pixels = estimate_pixels(&scene, 4096);
     assert_pixels_equal(
         &pixels,
-        [transmitted; 3],
+        [2.0 * sheet_transmittance(); 3],
         "an emitter behind a thin sheet, max_depth 0",
     );
 }
@@ -299,35 +302,10 @@ emission = 2.0
 /// crossing would use up the path's only scattering event and leave it black.
 #[test]
 fn a_wall_behind_a_thin_sheet_is_lit_at_max_depth_one() {
-    let scene = scene_from_str(
-        r#"
-[camera]
-position = [0.0, 0.0, 4.0]
-look_at = [0.0, 0.0, 0.0]
-fov = 0.1
-resolution = [4, 4]
-[integrator]
-max_depth = 1
-[[shape]]
-type = "quad"
-center = [0.0, 0.0, 2.0]
-normal = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-material = { type = "thin_dielectric", ior = 1.5 }
-[[shape]]
-type = "quad"
-center = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-size = [2.0, 2.0]
-material = { type = "diffuse", albedo = 0.5 }
-[[light]]
-type = "point"
-position = [0.0, 0.0, 1.0]
-intensity = 3.0
-"#,
-    );
-    let r0 = ((1.5f64 - 1.0) / (1.5 + 1.0)).powi(2);
-    let lit = (1.0 - 2.0 * r0 / (1.0 + r0)) * 0.5 / std::f64::consts::PI * 3.0;
+    let light = "[[light]]\ntype = \"point\"\nposition = [0.0, 0.0, 1.0]\nintensity = 3.0\n";
+    let wall = r#"material = { type = "diffuse", albedo = 0.5 }"#;
+    let scene = through_a_sheet(0.1, 1, 2.0, wall, light);
+    let lit = sheet_transmittance() * 0.5 / std::f64::consts::PI * 3.0;
     let pixels = estimate_pixels(&scene, 4096);
     assert_pixels_equal(&pixels, [lit; 3], "a wall behind a thin sheet, max_depth 1");
 }
