@@ -522,7 +522,7 @@ fn files_are_found_through_the_scene_folder_and_path_folders_from_a_relative_sce
     let (dir, _) = write(&[
         (
             "set/a/scene.xml",
-            &scene(r#"<path value="../../shared"/><include filename="inc/base.xml"/>"#),
+            &scene(r#"<path value="../../common"/><include filename="inc/base.xml"/>"#),
         ),
         (
             "set/a/inc/base.xml",
@@ -532,7 +532,7 @@ fn files_are_found_through_the_scene_folder_and_path_folders_from_a_relative_sce
             "set/a/inc/light.xml",
             r#"<scene version="3.0.0"><emitter type="constant"/></scene>"#,
         ),
-        ("shared/meshes/m.obj", obj),
+        ("common/meshes/m.obj", obj),
     ]);
     let out = assert_cmd::Command::cargo_bin("brume")
         .unwrap()
