@@ -160,6 +160,59 @@ fn shadow_rays_pass_null_interfaces_and_change_medium_there() {
     );
 }
 
+/// The wall of the test above lit instead by a 0.4 × 0.4 emitting square
+/// at z = −0.5 facing it, through the same boxes: each shadow ray ends on
+/// the emitter after four null crossings, each of which moves its origin off
+/// the surface it crossed. The ray must still end short of the emitter (a
+/// ray that reaches it is blocked by it, as any surface blocks): every
+/// crossing re-aims the ray at the same end point.
+/// L = T_camera · (1/π) ∫ L_e · T_shadow(θ) · cos² θ / r² dA over the square.
+#[test]
+fn shadow_rays_through_null_interfaces_still_end_short_of_an_area_light() {
+    let body = format!(
+        r#"{}{}
+        <shape type="rectangle"><boolean name="flip_normals" value="true"/>
+            <transform name="to_world"><scale value="40"/><translate z="10"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf></shape>
+        <shape type="rectangle">
+            <transform name="to_world"><scale value="0.2"/><translate z="-0.5"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
+            <emitter type="area"><rgb name="radiance" value="1000"/></emitter></shape>"#,
+        slab_cube(2.0, 6.0, r#"<ref name="interior" id="a"/>"#),
+        slab_cube(4.0, 9.0, r#"<ref name="interior" id="b"/>"#)
+    );
+    let (_dir, scene) = load(&body, "", 2);
+    let camera = transmittance(&[(0, 2.0), (1, 2.0)], 1.0);
+    let expected =
+        std::array::from_fn(|c| camera[c] * wall_irradiance(c, 1000.0) / std::f64::consts::PI);
+    assert_estimate(
+        &along_axis(&scene, 40_000),
+        expected,
+        "lit by a square through two boxes",
+    );
+}
+
+/// Irradiance in channel `c` at (0, 0, 10) from the square of side 0.4 at
+/// z = −0.5 with radiance `radiance`, through the shadow ray's media (b
+/// from 9 to 6, a from 6 to 4, then vacuum: leaving B sets B's exterior),
+/// by a 200 × 200 midpoint rule.
+fn wall_irradiance(c: usize, radiance: f64) -> f64 {
+    let (n, side, h) = (200, 0.4, 10.5);
+    let cell = side / n as f64;
+    let mut sum = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let x = -0.5 * side + (i as f64 + 0.5) * cell;
+            let y = -0.5 * side + (j as f64 + 0.5) * cell;
+            let r2 = x * x + y * y + h * h;
+            let cos = h / r2.sqrt();
+            let depth = (SIGMA[0][c] * 2.0 + SIGMA[1][c] * 3.0) / cos;
+            sum += radiance * (-depth).exp() * cos * cos / r2 * cell * cell;
+        }
+    }
+    sum
+}
+
 /// Only the path tracer follows the rule: another integrator is refused by
 /// key, in one line.
 #[test]

@@ -70,6 +70,7 @@ impl Scene {
         mut current: Option<u32>,
         sampler: &mut Sampler,
     ) -> Rgb {
+        let target = ray.at(t_max);
         let (mut ray, mut t_max, mut tr) = (*ray, t_max, Rgb::WHITE);
         loop {
             let hit = self.geometry.intersect(&ray, t_max);
@@ -90,9 +91,18 @@ impl Scene {
             }
             let dir = ray.direction;
             current = interfaces.after(hit.shape, hit.geometric_normal, dir, current);
-            ray = ray.spawn(offset_origin(hit.p, hit.geometric_normal, dir), dir);
-            // Progress is certain: every hit lies past the geometry's minimum t.
-            t_max -= hit.t;
+            // Re-aimed at the end point: the offset origin has moved along
+            // the crossed surface's normal, and a ray kept parallel with its
+            // length cut by hit.t would overshoot the end (by up to the offset
+            // per crossing) into the light's own surface. Progress is certain:
+            // each hit lies past the geometry's minimum t toward the end point.
+            let origin = offset_origin(hit.p, hit.geometric_normal, dir);
+            let to_target = target - origin;
+            t_max = to_target.length();
+            if to_target.dot(dir) <= 0.0 || t_max == 0.0 {
+                return tr;
+            }
+            ray = ray.spawn(origin, to_target / t_max);
         }
     }
 }
