@@ -45,6 +45,7 @@ fn plastic(diffuse: Rgb, specular: Rgb, ior: f32, nonlinear: bool) -> Material {
         nonlinear,
         alpha: 0.0,
         distribution: Distribution::Ggx,
+        tables: None,
     })
 }
 

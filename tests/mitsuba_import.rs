@@ -2,8 +2,8 @@
 //! element and attribute becomes in brume's scene description.
 
 use brume::scene::description::{
-    ColorOrTexture, LightDesc, MapFilterDesc, MaterialDesc, MediumDesc, MicrofacetDesc, PhaseDesc,
-    SceneDesc, ShapeType,
+    CoatingTransmittanceDesc, ColorOrTexture, LightDesc, MapFilterDesc, MaterialDesc, MediumDesc,
+    MicrofacetDesc, PhaseDesc, SceneDesc, ShapeType,
 };
 use brume::scene::mitsuba::import;
 use std::path::{Path, PathBuf};
@@ -450,13 +450,19 @@ fn roughplastic_maps_onto_a_rough_plastic_and_refuses_a_tinted_coating() {
         nonlinear,
         alpha,
         distribution,
+        transmittance,
     }) = &desc.shapes[0].material
     else {
         panic!("{:?}", desc.shapes[0].material)
     };
     assert_eq!(
-        (*alpha, *distribution, *nonlinear),
-        (0.1, MicrofacetDesc::Beckmann, false)
+        (*alpha, *distribution, *nonlinear, *transmittance),
+        (
+            0.1,
+            MicrofacetDesc::Beckmann,
+            false,
+            CoatingTransmittanceDesc::Microfacet
+        )
     );
     assert!((ior - (1.49 / 1.000277) as f32).abs() < 1e-6, "{ior}");
     assert_eq!(specular.0, [1.0; 3]);
@@ -483,9 +489,14 @@ fn roughplastic_maps_onto_a_rough_plastic_and_refuses_a_tinted_coating() {
         r#"<shape type="sphere"><bsdf type="plastic"/></shape>"#,
         &[],
     );
-    assert!(
-        matches!(smooth.shapes[0].material, Some(MaterialDesc::Plastic { alpha, .. }) if alpha == 0.0)
-    );
+    assert!(matches!(
+        smooth.shapes[0].material,
+        Some(MaterialDesc::Plastic {
+            alpha,
+            transmittance: CoatingTransmittanceDesc::Fresnel,
+            ..
+        }) if alpha == 0.0
+    ));
     for (bsdf, words) in [
         (
             r#"<rgb name="specular_reflectance" value="0.5, 1, 1"/>"#,

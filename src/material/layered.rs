@@ -17,7 +17,7 @@
 //! density is the two lobes' combined so that MIS sees one BSDF.
 
 use super::microfacet::Distribution;
-use super::rough_plastic::Coating;
+use super::rough_plastic::{Coating, CoatingTables};
 use super::{fresnel, BsdfSample, Shading, MIN_ALPHA};
 use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};
@@ -42,6 +42,10 @@ pub struct Plastic {
     pub alpha: f32,
     /// The microfacet distribution of a rough coating.
     pub distribution: Distribution,
+    /// A rough coating's tabulated transmittance and internal reflectance
+    /// (Mitsuba's `roughplastic`), or `None`: the smooth interface's Fresnel
+    /// factors at the macro angles and `fdr_int`.
+    pub tables: Option<&'static CoatingTables>,
 }
 
 /// Cosine-weighted hemispherical average of the Fresnel reflectance for
@@ -59,15 +63,28 @@ pub fn diffuse_fresnel(eta: f32) -> f32 {
 }
 
 impl Plastic {
-    /// The base's effective albedo ρ' with the internal reflections summed.
-    fn effective_albedo(&self) -> Rgb {
+    /// The base's effective albedo ρ' with the internal reflections summed,
+    /// and the coating's transmittance in and out at cosines `cos_o`, `cos_i`.
+    fn base_weights(&self, cos_o: f32, cos_i: f32) -> (Rgb, f32) {
+        let (internal, transmittance) = match self.tables {
+            Some(tables) => (
+                tables.internal_reflectance,
+                tables.transmittance(cos_o) * tables.transmittance(cos_i),
+            ),
+            None => {
+                let f_o = fresnel::dielectric(cos_o, self.ior);
+                let f_i = fresnel::dielectric(cos_i, self.ior);
+                (self.fdr_int, (1.0 - f_o) * (1.0 - f_i))
+            }
+        };
         let d = self.diffuse;
-        if self.nonlinear {
-            let ch = |x: f32| x / (1.0 - self.fdr_int * x);
+        let albedo = if self.nonlinear {
+            let ch = |x: f32| x / (1.0 - internal * x);
             Rgb::new(ch(d.r), ch(d.g), ch(d.b))
         } else {
-            d * (1.0 / (1.0 - self.fdr_int))
-        }
+            d * (1.0 / (1.0 - internal))
+        };
+        (albedo, transmittance)
     }
 
     /// Probability of sampling the specular lobe, in proportion to the lobes' weights.
@@ -87,10 +104,9 @@ impl Plastic {
         if cos_o <= 0.0 || cos_i <= 0.0 {
             return Rgb::BLACK;
         }
-        let f_o = fresnel::dielectric(cos_o, self.ior);
-        let f_i = fresnel::dielectric(cos_i, self.ior);
-        let t = (1.0 - f_o) * (1.0 - f_i) / (self.ior * self.ior);
-        let diffuse = self.effective_albedo() * (t * FRAC_1_PI * cos_i);
+        let (albedo, transmittance) = self.base_weights(cos_o, cos_i);
+        let t = transmittance / (self.ior * self.ior);
+        let diffuse = albedo * (t * FRAC_1_PI * cos_i);
         match self.coating() {
             Some(c) => {
                 let frame = Frame::from_z(sp.n);

@@ -19,7 +19,7 @@ mod lobe;
 pub mod microfacet;
 pub mod multiscatter;
 mod rough;
-mod rough_plastic;
+pub mod rough_plastic;
 
 use crate::math::color::Rgb;
 use crate::math::{Frame, Vec2, Vec3};

@@ -639,7 +639,35 @@ pub enum MaterialDesc {
         /// Microfacet distribution of a rough coating: `ggx` (default) or `beckmann`.
         #[serde(default)]
         distribution: MicrofacetDesc,
+        /// Weights of a rough coating's diffuse term: `fresnel` (default) or
+        /// `microfacet` (Mitsuba's `roughplastic` tables).
+        #[serde(default)]
+        transmittance: CoatingTransmittanceDesc,
     },
+}
+
+/// `transmittance` of a plastic: how light crossing a rough coating to and
+/// from the base is weighted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CoatingTransmittanceDesc {
+    /// The smooth interface's Fresnel transmittance at the macro angles and
+    /// its diffuse Fresnel reflectance inside.
+    #[default]
+    Fresnel,
+    /// The rough interface's single-scattering transmittance and internal
+    /// reflectance, tabulated as Mitsuba 3's `roughplastic` does (loses
+    /// what the microfacets mask).
+    Microfacet,
+}
+
+impl<'de> Deserialize<'de> for CoatingTransmittanceDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<CoatingTransmittanceDesc, D::Error> {
+        let i = super::messages::one_of(d, &["fresnel", "microfacet"])?;
+        Ok([
+            CoatingTransmittanceDesc::Fresnel,
+            CoatingTransmittanceDesc::Microfacet,
+        ][i])
+    }
 }
 
 fn default_plastic_diffuse() -> ColorOrTexture {

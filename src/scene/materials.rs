@@ -1,10 +1,13 @@
 //! Building the microfacet and dielectric materials of `material = { ... }`.
 
-use super::description::{Color, ColorOrTexture, MaterialDesc, MicrofacetDesc};
+use super::description::{
+    CoatingTransmittanceDesc, Color, ColorOrTexture, MaterialDesc, MicrofacetDesc,
+};
 use super::validate::Check;
 use crate::error::Result;
 use crate::material::albedo::ETA_MAX;
 use crate::material::layered::{diffuse_fresnel, Plastic};
+use crate::material::rough_plastic::CoatingTables;
 use crate::material::{ConductorFresnel, Distribution, Material, MIN_ALPHA};
 use crate::math::color::Rgb;
 
@@ -175,6 +178,7 @@ pub(super) fn material(
             nonlinear,
             alpha,
             distribution,
+            transmittance,
         } => {
             // Mitsuba's roughplastic is single scattering only; there is no compensation key.
             let rough = Rough::of(*alpha, *distribution, false);
@@ -184,6 +188,7 @@ pub(super) fn material(
                 ior,
                 nonlinear,
                 rough,
+                transmittance: *transmittance,
             };
             plastic(check, field, color("diffuse", diffuse)?, coating)?
         }
@@ -206,6 +211,8 @@ pub(super) struct Coating {
     pub nonlinear: bool,
     /// `alpha` (0: smooth) and `distribution` (default GGX).
     pub rough: Rough,
+    /// `transmittance` (default fresnel).
+    pub transmittance: CoatingTransmittanceDesc,
 }
 
 /// `{ type = "plastic", diffuse, specular, ior, nonlinear, alpha, distribution }`;
@@ -217,14 +224,27 @@ pub(super) fn plastic(
     coating: Coating,
 ) -> Result<Material> {
     let ior = check.range(&format!("{field}.ior"), coating.ior, 0.0, 10.0, false)?;
+    let alpha = alpha(check, &format!("{field}.alpha"), coating.rough.alpha)?;
+    let distribution = coating.rough.distribution(check, field)?;
+    let tables = match coating.transmittance {
+        CoatingTransmittanceDesc::Fresnel => None,
+        CoatingTransmittanceDesc::Microfacet if alpha == 0.0 => {
+            return Err(check.error(
+                &format!("{field}.transmittance"),
+                "\"microfacet\" weighs a rough coating: give `alpha` > 0, or leave it out for a smooth one",
+            ))
+        }
+        CoatingTransmittanceDesc::Microfacet => Some(CoatingTables::of(distribution, alpha, ior)),
+    };
     Ok(Material::Plastic(Plastic {
         diffuse,
         specular: check.albedo(&format!("{field}.specular"), coating.specular)?,
         ior,
         fdr_int: diffuse_fresnel(1.0 / ior),
         nonlinear: coating.nonlinear,
-        alpha: alpha(check, &format!("{field}.alpha"), coating.rough.alpha)?,
-        distribution: coating.rough.distribution(check, field)?,
+        alpha,
+        distribution,
+        tables,
     }))
 }
 

@@ -5,7 +5,9 @@ use super::texture::UvFrame;
 use super::values::{ColorParam, Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, MicrofacetDesc};
+use crate::scene::description::{
+    CoatingTransmittanceDesc, Color, ColorOrTexture, MaterialDesc, MicrofacetDesc,
+};
 
 /// Mitsuba's named indices of refraction (its `dielectric` table).
 const NAMED_IOR: [(&str, f64); 23] = [
@@ -208,6 +210,11 @@ fn plastic(ctx: &Ctx, p: &Props, rough: bool, frame: UvFrame) -> Result<Material
         nonlinear: p.bool("nonlinear")?.unwrap_or(false),
         alpha,
         distribution,
+        transmittance: if rough {
+            CoatingTransmittanceDesc::Microfacet
+        } else {
+            CoatingTransmittanceDesc::Fresnel
+        },
     })
 }
 
