@@ -160,6 +160,29 @@ fn shadow_rays_pass_null_interfaces_and_change_medium_there() {
     );
 }
 
+/// The wall of the test above lit instead by a directional light along +z:
+/// its shadow rays have no end, so they cross the boxes with their
+/// direction kept. L = T_camera · T_shadow · (1/π) · E.
+#[test]
+fn shadow_rays_toward_a_directional_light_pass_null_interfaces() {
+    let wall = r#"<shape type="rectangle"><boolean name="flip_normals" value="true"/>
+        <transform name="to_world"><scale value="40"/><translate z="10"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf></shape>
+        <emitter type="directional"><vector name="direction" value="0, 0, 1"/><rgb name="irradiance" value="3"/></emitter>"#;
+    let body = format!(
+        "{}{}{wall}",
+        slab_cube(2.0, 6.0, r#"<ref name="interior" id="a"/>"#),
+        slab_cube(4.0, 9.0, r#"<ref name="interior" id="b"/>"#)
+    );
+    let (_dir, scene) = load(&body, "", 2);
+    let expected = transmittance(&[(0, 4.0), (1, 5.0)], 3.0 / std::f64::consts::PI);
+    assert_estimate(
+        &along_axis(&scene, 40_000),
+        expected,
+        "lit by a directional light through two boxes",
+    );
+}
+
 /// The wall of the test above lit instead by a 0.4 × 0.4 emitting square
 /// at z = −0.5 facing it, through the same boxes: each shadow ray ends on
 /// the emitter after four null crossings, each of which moves its origin off

@@ -70,7 +70,8 @@ impl Scene {
         mut current: Option<u32>,
         sampler: &mut Sampler,
     ) -> Rgb {
-        let target = ray.at(t_max);
+        // A shadow ray toward an infinite light has no end point to aim at.
+        let target = t_max.is_finite().then(|| ray.at(t_max));
         let (mut ray, mut t_max, mut tr) = (*ray, t_max, Rgb::WHITE);
         loop {
             let hit = self.geometry.intersect(&ray, t_max);
@@ -97,6 +98,10 @@ impl Scene {
             // per crossing) into the light's own surface. Progress is certain:
             // each hit lies past the geometry's minimum t toward the end point.
             let origin = offset_origin(hit.p, hit.geometric_normal, dir);
+            let Some(target) = target else {
+                ray = ray.spawn(origin, dir);
+                continue;
+            };
             let to_target = target - origin;
             t_max = to_target.length();
             if to_target.dot(dir) <= 0.0 || t_max == 0.0 {
