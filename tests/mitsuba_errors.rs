@@ -83,12 +83,6 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "beckmann and ggx",
     );
     refuses(
-        r#"<shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape>"#,
-        3,
-        r#"<texture type="checkerboard" name="reflectance">"#,
-        "a texture on a sphere",
-    );
-    refuses(
         r#"<emitter type="constant"><spectrum name="radiance" filename="d65.spd"/></emitter>"#,
         3,
         r#"<spectrum name="radiance">"#,

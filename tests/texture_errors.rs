@@ -22,6 +22,11 @@ fn quad(key: &str, value: &str) -> String {
     )
 }
 
+/// A unit sphere with `uv_axes = axes`.
+fn sphere(axes: &str) -> String {
+    format!("{HEAD}[[shape]]\ntype = \"sphere\"\nradius = 1.0\nuv_axes = {axes}\n")
+}
+
 fn albedo(texture: &str) -> String {
     quad(
         "material",
@@ -111,6 +116,12 @@ fn cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
         ("exr without colour channels", quad("emission", "{ type = \"image\", file = \"depth.exr\" }"), vec!["shape[0].emission.file", "depth.exr", "R, G and B"]),
         ("textured mesh without vt", format!("{HEAD}[[shape]]\ntype = \"mesh\"\nfile = \"flat.obj\"\nmaterial = {{ type = \"diffuse\", albedo = {} }}\n", img("")), vec!["shape[0].material.albedo", "flat.obj", "vt"]),
         ("textured mesh emission without vt", format!("{HEAD}[[shape]]\ntype = \"mesh\"\nfile = \"flat.obj\"\nemission = {{ type = \"checkerboard\", a = 1.0, b = 2.0 }}\n"), vec!["shape[0].emission", "flat.obj", "vt"]),
+        ("zero uv_axes pole", sphere("{ pole = [0.0, 0.0, 0.0], seam = [1.0, 0.0, 0.0] }"), vec!["shape[0].uv_axes.pole", "zero"]),
+        ("slanted uv_axes seam", sphere("{ pole = [0.0, 1.0, 0.0], seam = [1.0, 0.5, 0.0] }"), vec!["shape[0].uv_axes.seam", "perpendicular"]),
+        ("nan uv_axes seam", sphere("{ pole = [0.0, 1.0, 0.0], seam = [nan, 0.0, 0.0] }"), vec!["shape[0].uv_axes.seam[0]"]),
+        ("uv_axes without a seam", sphere("{ pole = [0.0, 1.0, 0.0] }"), vec!["shape[0].uv_axes", "seam"]),
+        ("uv_axes on a quad", quad("uv_axes", "{ pole = [0.0, 1.0, 0.0], seam = [1.0, 0.0, 0.0] }"), vec!["shape[0].uv_axes", "quad"]),
+        ("uv_axes on a moving sphere", format!("{HEAD}[[shape]]\ntype = \"sphere\"\nradius = 1.0\nuv_axes = {{ pole = [0.0, 1.0, 0.0], seam = [1.0, 0.0, 0.0] }}\ntransform = {{ keyframes = [{{ time = 0.0 }}, {{ time = 1.0, translate = [1.0, 0.0, 0.0] }}] }}\n"), vec!["shape[0].uv_axes", "moving"]),
         ("textured mirror", quad("material", "{ type = \"mirror\", reflectance = { type = \"image\", file = \"nope.png\" } }"), vec!["shape[0].material.reflectance.file"]),
         ("textured conductor f0", quad("material", "{ type = \"conductor\", f0 = { type = \"checkerboard\", a = 0.5, b = 2.0 } }"), vec!["shape[0].material.f0.b"]),
     ]

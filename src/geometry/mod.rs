@@ -72,6 +72,10 @@ pub struct Geometry {
     moving: Option<moving::MovingShapes>,
     /// Baked light slabs (`type = "slab"`): boxes answered from a record, not traced.
     slabs: Vec<SlabShape>,
+    /// Per shape: the axes a sphere's texture coordinates are taken about
+    /// (`[seam, pole, seam × pole]`), or `None` for the world's (X, Y, Z);
+    /// empty when no sphere has its own.
+    sphere_axes: Vec<Option<[Vec3; 3]>>,
 }
 
 /// Corner texture coordinates of a triangle without any: its barycentric parameters.
@@ -150,7 +154,17 @@ impl Geometry {
             bounds,
             moving: None,
             slabs: Vec::new(),
+            sphere_axes: Vec::new(),
         }
+    }
+
+    /// The same geometry with spheres' texture axes, indexed by shape.
+    pub fn with_sphere_axes(mut self, axes: Vec<Option<[Vec3; 3]>>) -> Geometry {
+        self.sphere_axes = match axes.iter().any(Option::is_some) {
+            true => axes,
+            false => Vec::new(),
+        };
+        self
     }
 
     /// The same geometry with baked light slabs beside the primitives.
@@ -221,7 +235,16 @@ impl Geometry {
     pub fn uv(&self, primitive: u32, st: Vec2, p: Vec3) -> Vec2 {
         let i = primitive as usize;
         match self.primitives[i] {
-            Primitive::Sphere { center, radius } => sphere_uv((p - center) / radius),
+            Primitive::Sphere { center, radius } => {
+                let n = (p - center) / radius;
+                let shape = self.primitive_shape[i] as usize;
+                match self.sphere_axes.get(shape).copied().flatten() {
+                    Some([seam, pole, third]) => {
+                        sphere_uv(Vec3::new(seam.dot(n), pole.dot(n), third.dot(n)))
+                    }
+                    None => sphere_uv(n),
+                }
+            }
             Primitive::Parallelogram { .. } | Primitive::Disk { .. } => st,
             Primitive::Triangle { .. } => {
                 let t = self.texcoords.get(i).unwrap_or(&BARYCENTRIC_UV);

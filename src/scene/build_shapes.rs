@@ -43,7 +43,9 @@ pub(super) fn build_shapes(
     let mut images = textures::ImageCache::default();
     let mut interiors = Vec::new();
     let mut slabs = Vec::new();
+    let mut sphere_axes = Vec::with_capacity(desc.shapes.len());
     for (i, shape) in desc.shapes.iter().enumerate() {
+        sphere_axes.push(None);
         let field = format!("shape[{i}]");
         if shape.kind == description::ShapeType::Slab {
             slabs.push(super::slab_keys::build_slab_shape(
@@ -62,6 +64,13 @@ pub(super) fn build_shapes(
         let mut built = shapes::build_shape(shape, &field, check, base)?;
         require_uv(shape, &field, built.texcoords.is_some(), check, base)?;
         let keys = check_moving_shape(shape, built.keys.take(), &field, check)?;
+        if keys.is_some() && built.uv_axes.is_some() {
+            return Err(check.error(
+                &format!("{field}.uv_axes"),
+                "not supported on a moving sphere (its texture axes would stay fixed in the world)",
+            ));
+        }
+        sphere_axes[i] = built.uv_axes;
         let surface = add_interior(shape, &built, &field, (check, base, timing), &mut interiors)?;
         match keys {
             Some(keys) => moving.push(MovingShape::new(i as u32, built.primitives, keys)),
@@ -79,7 +88,8 @@ pub(super) fn build_shapes(
         geometry: surfaces
             .into_geometry()
             .with_moving(moving)
-            .with_slabs(slabs),
+            .with_slabs(slabs)
+            .with_sphere_axes(sphere_axes),
         materials: shape_materials,
         textures: shape_textures,
         emissions,

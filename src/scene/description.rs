@@ -783,6 +783,21 @@ pub struct ShapeDesc {
     /// How a slab answers lines between its records: `quadrilinear` (default) or `nearest` (slab).
     #[serde(default)]
     pub filter: Option<String>,
+    /// A sphere's texture axes: `{ pole, seam }` (default +Y and +X).
+    #[serde(default)]
+    pub uv_axes: Option<UvAxesDesc>,
+}
+
+/// `uv_axes` of a sphere: where its latitude–longitude texture coordinates
+/// have their pole (v = 1) and their seam (u = 0), as world directions.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct UvAxesDesc {
+    /// Direction of the pole where v = 1 (brume's default +Y).
+    pub pole: [f32; 3],
+    /// Direction, perpendicular to the pole, where u = 0 (default +X); u
+    /// grows toward seam × pole.
+    pub seam: [f32; 3],
 }
 
 impl ShapeDesc {

@@ -22,7 +22,7 @@ pub(crate) fn build_transform(
 /// Names the keys set on `shape` that its type does not use.
 fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<()> {
     let used: &[&str] = match shape.kind {
-        ShapeType::Sphere => &["center", "radius"],
+        ShapeType::Sphere => &["center", "radius", "uv_axes"],
         ShapeType::Quad => &["center", "normal", "size", "u_axis"],
         ShapeType::Box => &["center", "size"],
         ShapeType::Disk => &["center", "normal", "radius", "u_axis"],
@@ -37,6 +37,7 @@ fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<
         ("u_axis", shape.u_axis.is_some()),
         ("file", shape.file.is_some()),
         ("filter", shape.filter.is_some()),
+        ("uv_axes", shape.uv_axes.is_some()),
     ];
     for (key, set) in present {
         if set && !used.contains(&key) {
@@ -62,6 +63,8 @@ pub(crate) struct BuiltShape {
     pub texcoords: Option<Vec<[Vec2; 3]>>,
     /// The keyframes of a shape that moves; its primitives are then in its local frame.
     pub keys: Option<Keyframes>,
+    /// A sphere's texture axes `[seam, pole, seam × pole]` (`uv_axes`).
+    pub uv_axes: Option<[Vec3; 3]>,
 }
 
 /// The primitives of one shape entry, in world space.
@@ -105,7 +108,33 @@ pub(crate) fn build_shape(
         primitives,
         texcoords: None,
         keys,
+        uv_axes: uv_axes(shape, field, check)?,
     })
+}
+
+/// A sphere's `uv_axes`: unit pole and seam, the seam perpendicular to the pole.
+fn uv_axes(shape: &ShapeDesc, field: &str, check: &Check) -> Result<Option<[Vec3; 3]>> {
+    let Some(axes) = shape.uv_axes else {
+        return Ok(None);
+    };
+    let unit = |key: &str, v: [f32; 3]| -> Result<Vec3> {
+        let key = format!("{field}.uv_axes.{key}");
+        let v = check.vec3(&key, v)?;
+        match v.try_normalize() {
+            Some(v) => Ok(v),
+            None => Err(check.error(&key, "must not be zero")),
+        }
+    };
+    let (pole, seam) = (unit("pole", axes.pole)?, unit("seam", axes.seam)?);
+    if pole.dot(seam).abs() > 1e-3 {
+        return Err(check.error(
+            &format!("{field}.uv_axes.seam"),
+            "must be perpendicular to the pole",
+        ));
+    }
+    // Exactly perpendicular, so that the three axes rotate without scaling.
+    let seam = (seam - pole * pole.dot(seam)).normalize();
+    Ok(Some([seam, pole, seam.cross(pole)]))
 }
 
 /// The `n` positive numbers of `size`, each checked under its own index.
@@ -283,6 +312,7 @@ fn load_obj(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
         primitives: out.prims,
         texcoords: all_have_uv.then_some(out.texcoords),
         keys: None,
+        uv_axes: None,
     })
 }
 
@@ -319,6 +349,7 @@ fn load_ply(path: &Path, m: &Affine3A, field: &str, check: &Check) -> Result<Bui
         primitives,
         texcoords: mesh.uvs.is_some().then_some(texcoords),
         keys: None,
+        uv_axes: None,
     })
 }
 

@@ -8,7 +8,9 @@ use super::transform::{axes, to_brume};
 use super::values::{Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{Color, ColorOrTexture, MaterialDesc, ShapeDesc, ShapeType};
+use crate::scene::description::{
+    Color, ColorOrTexture, MaterialDesc, ShapeDesc, ShapeType, UvAxesDesc,
+};
 use glam::{DMat3, DMat4, DVec3};
 
 /// A shape read from the XML, before media are placed.
@@ -100,6 +102,7 @@ fn geometry(ctx: &Ctx, p: &Props, kind: &str, flip: bool) -> Result<(ShapeDesc, 
             desc.center = Some(center.as_vec3().to_array());
             desc.radius = Some(radius as f32);
             desc.transform = to_brume(&to_world, at)?;
+            desc.uv_axes = Some(sphere_uv_axes(&to_world));
             Some(box_bounds(&to_world, center, DVec3::splat(radius)))
         }
         "cube" => {
@@ -170,10 +173,8 @@ fn uv_frame(p: &Props, kind: &str, flip: bool) -> Result<UvFrame> {
         // Mitsuba flips an OBJ's v (1 − vt) unless told not to; brume uses vt as written.
         "obj" if p.bool("flip_tex_coords")?.unwrap_or(true) => UvFrame::Flipped,
         "obj" | "ply" => UvFrame::Same,
-        "sphere" => UvFrame::Refused(
-            "a texture on a sphere (Mitsuba's sphere coordinates have their pole on the local Z axis \
-             and turn with to_world; brume's lat-long pole is +Y and ignores rotation)",
-        ),
+        // brume's sphere takes Mitsuba's axes (`sphere_uv_axes`).
+        "sphere" => UvFrame::Same,
         // Both: (r, φ/2π ∈ [0, 1)), φ from local X toward local Y in Mitsuba,
         // from u_axis toward normal × u_axis in brume, which flip_normals turns.
         "disk" if flip => UvFrame::Flipped,
@@ -182,6 +183,20 @@ fn uv_frame(p: &Props, kind: &str, flip: bool) -> Result<UvFrame> {
             "a texture on a cube (Mitsuba's cube mesh coordinates differ from brume's box faces)",
         ),
     })
+}
+
+/// Mitsuba's sphere coordinates: u = φ / 2π from local X toward local Y,
+/// v = θ / π from local Z, turned by `to_world`. brume's v = 1 − θ / π from
+/// its pole and u from its seam toward seam × pole: the pole is local −Z
+/// and the seam local X (then seam × pole = local Y).
+fn sphere_uv_axes(to_world: &DMat4) -> UvAxesDesc {
+    let linear = DMat3::from_mat4(*to_world);
+    let pole = -(linear * DVec3::Z).normalize();
+    let seam = (linear * DVec3::X).normalize();
+    UvAxesDesc {
+        pole: pole.as_vec3().to_array(),
+        seam: seam.as_vec3().to_array(),
+    }
 }
 
 /// A shape description with nothing set but its type.
@@ -200,6 +215,7 @@ fn blank(kind: ShapeType) -> ShapeDesc {
         transform: None,
         interior: None,
         filter: None,
+        uv_axes: None,
     }
 }
 
