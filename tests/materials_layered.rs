@@ -219,6 +219,16 @@ fn bad_keys_of_the_new_materials_name_the_key() {
             "shape[0].material.multiscatter: energy compensation is tabulated for GGX only",
         ),
         (
+            r#"{ type = "dielectric", alpha = 0.3, masking = "separable" }"#,
+            "path",
+            "shape[0].material.multiscatter: energy compensation is tabulated for correlated masking only",
+        ),
+        (
+            r#"{ type = "conductor", alpha = 0.3, f0 = 0.9, masking = "uncorrelated" }"#,
+            "path",
+            "shape[0].material.masking",
+        ),
+        (
             r#"{ type = "dielectric", alpha = 0.3, distribution = "phong" }"#,
             "path",
             "shape[0].material.distribution",

@@ -83,6 +83,25 @@ fn elements_outside_the_subset_are_refused_by_element_and_line() {
         "beckmann and ggx",
     );
     refuses(
+        r#"<integrator type="direct"/><medium type="homogeneous" id="fog"/>
+        <shape type="sphere"><bsdf type="null"/><ref name="interior" id="fog"/></shape>"#,
+        3,
+        r#"<integrator type="direct">"#,
+        "direct integrator in a scene with media",
+    );
+    refuses(
+        r#"<integrator type="direct"><integer name="bsdf_samples" value="-1"/></integrator>"#,
+        3,
+        r#"<integer name="bsdf_samples">"#,
+        "must be 0 or more",
+    );
+    refuses(
+        r#"<integrator type="direct"><boolean name="hide_emitters" value="true"/></integrator>"#,
+        3,
+        r#"<integrator type="direct">"#,
+        "hide_emitters",
+    );
+    refuses(
         r#"<emitter type="constant"><spectrum name="radiance" filename="d65.spd"/></emitter>"#,
         3,
         r#"<spectrum name="radiance">"#,

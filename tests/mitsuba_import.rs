@@ -2,8 +2,8 @@
 //! element and attribute becomes in brume's scene description.
 
 use brume::scene::description::{
-    CoatingTransmittanceDesc, ColorOrTexture, LightDesc, MapFilterDesc, MaterialDesc, MediumDesc,
-    MicrofacetDesc, PhaseDesc, SceneDesc, ShapeType,
+    CoatingTransmittanceDesc, ColorOrTexture, LightDesc, MapFilterDesc, MaskingDesc, MaterialDesc,
+    MediumDesc, MicrofacetDesc, PhaseDesc, SceneDesc, ShapeType,
 };
 use brume::scene::mitsuba::import;
 use std::path::{Path, PathBuf};
@@ -262,6 +262,13 @@ fn max_depth_counts_segments_in_mitsuba_and_scattering_events_in_brume() {
         u32::MAX,
         "Mitsuba's default is unlimited"
     );
+    // `direct`: emitters seen directly and one reflection, whatever its sample counts.
+    for direct in [
+        r#"<integrator type="direct"/>"#,
+        r#"<integrator type="moment"><integrator type="direct"><integer name="emitter_samples" value="4"/><integer name="bsdf_samples" value="0"/></integrator></integrator>"#,
+    ] {
+        assert_eq!(load(direct, &[]).integrator.max_depth, 1, "{direct}");
+    }
 }
 
 #[test]
@@ -450,17 +457,19 @@ fn roughplastic_maps_onto_a_rough_plastic_and_refuses_a_tinted_coating() {
         nonlinear,
         alpha,
         distribution,
+        masking,
         transmittance,
     }) = &desc.shapes[0].material
     else {
         panic!("{:?}", desc.shapes[0].material)
     };
     assert_eq!(
-        (*alpha, *distribution, *nonlinear, *transmittance),
+        (*alpha, *distribution, *nonlinear, *masking, *transmittance),
         (
             0.1,
             MicrofacetDesc::Beckmann,
             false,
+            MaskingDesc::Separable,
             CoatingTransmittanceDesc::Microfacet
         )
     );

@@ -9,7 +9,9 @@
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::PI;
 
-/// Which microfacet distribution a rough lobe uses.
+/// Which microfacet distribution a rough lobe uses, with which Smith
+/// masking–shadowing: height-correlated (brume's) or separable, G1(wo)·G1(wi)
+/// (Mitsuba 3's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Distribution {
     /// GGX (Trowbridge–Reitz): brume's default, with energy compensation tables.
@@ -17,6 +19,43 @@ pub enum Distribution {
     Ggx,
     /// Beckmann (Gaussian slopes): Mitsuba 3's default; single scattering only.
     Beckmann,
+    /// GGX with separable masking (single scattering only).
+    GgxSeparable,
+    /// Beckmann with separable masking.
+    BeckmannSeparable,
+}
+
+/// A distribution whose masking–shadowing is separable, G1(wo)·G1(wi), as
+/// Mitsuba 3's microfacet models have it (the facets' heights uncorrelated;
+/// it masks more than the height-correlated form toward grazing angles).
+#[derive(Clone, Copy, Debug)]
+pub struct Separable<M>(pub M);
+
+impl<M: Microfacet> Microfacet for Separable<M> {
+    fn d(&self, m: Vec3) -> f32 {
+        self.0.d(m)
+    }
+    fn lambda(&self, w: Vec3) -> f32 {
+        self.0.lambda(w)
+    }
+    fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.0.g1(wo) * self.0.g1(wi)
+    }
+    fn normal_pdf(&self, wo: Vec3, m: Vec3) -> f32 {
+        self.0.normal_pdf(wo, m)
+    }
+    fn sample_normal(&self, wo: Vec3, u: Vec2) -> Vec3 {
+        self.0.sample_normal(wo, u)
+    }
+    fn sample_weight(&self, wo: Vec3, wi: Vec3, m: Vec3) -> f32 {
+        // The weight is linear in G2: swap the correlated form for the separable one.
+        let correlated = self.0.g2(wo, wi);
+        if correlated > 0.0 {
+            self.0.sample_weight(wo, wi, m) * (self.g2(wo, wi) / correlated)
+        } else {
+            0.0
+        }
+    }
 }
 
 /// What the rough lobes (`rough.rs`) need of a microfacet distribution.

@@ -115,8 +115,13 @@ impl CoatingTables {
             let mu = (k as f64 / (TABLE_SIZE - 1) as f64).max(1e-6);
             let wi = Vec3::new((1.0 - mu * mu).sqrt() as f32, 0.0, mu as f32);
             let (entering, reflected) = match distribution {
-                Distribution::Ggx => coating_albedos(Ggx { alpha }, alpha, wi, eta),
-                Distribution::Beckmann => coating_albedos(Beckmann { alpha }, alpha, wi, eta),
+                // The tables take one direction's masking at a time: the masking form is moot.
+                Distribution::Ggx | Distribution::GgxSeparable => {
+                    coating_albedos(Ggx { alpha }, alpha, wi, eta)
+                }
+                Distribution::Beckmann | Distribution::BeckmannSeparable => {
+                    coating_albedos(Beckmann { alpha }, alpha, wi, eta)
+                }
             };
             *t = entering as f32;
             internal += reflected * mu;

@@ -53,6 +53,8 @@ fn sampling_matches_eval_and_pdf() {
         (Distribution::Ggx, false),
         (Distribution::Ggx, true),
         (Distribution::Beckmann, false),
+        (Distribution::GgxSeparable, false),
+        (Distribution::BeckmannSeparable, false),
     ] {
         for alpha in [0.01, 0.1, 0.4, 1.0] {
             check_consistency(Material::Conductor {

@@ -590,6 +590,9 @@ pub enum MaterialDesc {
         /// Energy compensation of a rough surface (false: single scattering only).
         #[serde(default = "default_true")]
         multiscatter: bool,
+        /// Smith masking of a rough surface: `correlated` (default) or `separable`.
+        #[serde(default)]
+        masking: MaskingDesc,
     },
     /// Metal: smooth (alpha = 0) or GGX-rough, with a complex index or a Schlick F0.
     Conductor {
@@ -599,6 +602,9 @@ pub enum MaterialDesc {
         /// Microfacet distribution of a rough surface: `ggx` (default) or `beckmann`.
         #[serde(default)]
         distribution: MicrofacetDesc,
+        /// Smith masking of a rough surface: `correlated` (default) or `separable`.
+        #[serde(default)]
+        masking: MaskingDesc,
         /// Real part of the complex index of refraction, per channel.
         #[serde(default)]
         eta: Option<Color>,
@@ -639,11 +645,31 @@ pub enum MaterialDesc {
         /// Microfacet distribution of a rough coating: `ggx` (default) or `beckmann`.
         #[serde(default)]
         distribution: MicrofacetDesc,
+        /// Smith masking of a rough coating: `correlated` (default) or `separable`.
+        #[serde(default)]
+        masking: MaskingDesc,
         /// Weights of a rough coating's diffuse term: `fresnel` (default) or
         /// `microfacet` (Mitsuba's `roughplastic` tables).
         #[serde(default)]
         transmittance: CoatingTransmittanceDesc,
     },
+}
+
+/// `masking` of a rough surface: the Smith masking–shadowing of its facets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MaskingDesc {
+    /// Height-correlated, 1 / (1 + Λ(wo) + Λ(wi)) (Heitz 2014; brume's default).
+    #[default]
+    Correlated,
+    /// Separable, G1(wo) · G1(wi): Mitsuba 3's; single scattering only.
+    Separable,
+}
+
+impl<'de> Deserialize<'de> for MaskingDesc {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<MaskingDesc, D::Error> {
+        let i = super::messages::one_of(d, &["correlated", "separable"])?;
+        Ok([MaskingDesc::Correlated, MaskingDesc::Separable][i])
+    }
 }
 
 /// `transmittance` of a plastic: how light crossing a rough coating to and

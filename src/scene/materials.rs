@@ -1,7 +1,7 @@
 //! Building the microfacet and dielectric materials of `material = { ... }`.
 
 use super::description::{
-    CoatingTransmittanceDesc, Color, ColorOrTexture, MaterialDesc, MicrofacetDesc,
+    CoatingTransmittanceDesc, Color, ColorOrTexture, MaskingDesc, MaterialDesc, MicrofacetDesc,
 };
 use super::validate::Check;
 use crate::error::Result;
@@ -33,28 +33,45 @@ pub(super) struct Rough {
     pub distribution: MicrofacetDesc,
     /// `multiscatter` as written (default true).
     pub multiscatter: bool,
+    /// `masking` as written (default correlated).
+    pub masking: MaskingDesc,
 }
 
 impl Rough {
     /// The keys as written.
-    pub(super) fn of(alpha: f32, distribution: MicrofacetDesc, multiscatter: bool) -> Rough {
+    pub(super) fn of(
+        alpha: f32,
+        distribution: MicrofacetDesc,
+        multiscatter: bool,
+        masking: MaskingDesc,
+    ) -> Rough {
         Rough {
             alpha,
             distribution,
             multiscatter,
+            masking,
         }
     }
 
     /// The distribution, refusing energy compensation where brume has no
     /// albedo table for it (Beckmann): the user chooses single scattering.
     fn distribution(&self, check: &Check, field: &str) -> Result<Distribution> {
-        match self.distribution {
-            MicrofacetDesc::Ggx => Ok(Distribution::Ggx),
-            MicrofacetDesc::Beckmann if self.multiscatter && self.alpha > 0.0 => Err(check.error(
+        let compensated = self.multiscatter && self.alpha > 0.0;
+        match (self.distribution, self.masking) {
+            (_, MaskingDesc::Separable) if compensated => Err(check.error(
+                &format!("{field}.multiscatter"),
+                "energy compensation is tabulated for correlated masking only: with `masking = \"separable\"` write `multiscatter = false`",
+            )),
+            (MicrofacetDesc::Ggx, MaskingDesc::Correlated) => Ok(Distribution::Ggx),
+            (MicrofacetDesc::Ggx, MaskingDesc::Separable) => Ok(Distribution::GgxSeparable),
+            (MicrofacetDesc::Beckmann, _) if compensated => Err(check.error(
                 &format!("{field}.multiscatter"),
                 "energy compensation is tabulated for GGX only: with `distribution = \"beckmann\"` write `multiscatter = false`",
             )),
-            MicrofacetDesc::Beckmann => Ok(Distribution::Beckmann),
+            (MicrofacetDesc::Beckmann, MaskingDesc::Correlated) => Ok(Distribution::Beckmann),
+            (MicrofacetDesc::Beckmann, MaskingDesc::Separable) => {
+                Ok(Distribution::BeckmannSeparable)
+            }
         }
     }
 }
@@ -154,8 +171,9 @@ pub(super) fn material(
             alpha,
             distribution,
             multiscatter,
+            masking,
         } => {
-            let rough = Rough::of(*alpha, *distribution, *multiscatter);
+            let rough = Rough::of(*alpha, *distribution, *multiscatter, *masking);
             dielectric(check, field, *ior, rough)?
         }
         MaterialDesc::Conductor {
@@ -165,9 +183,10 @@ pub(super) fn material(
             k,
             f0,
             multiscatter,
+            masking,
         } => {
             let f0 = f0.as_ref().map(|f0| color("f0", f0)).transpose()?;
-            let rough = Rough::of(*alpha, *distribution, *multiscatter);
+            let rough = Rough::of(*alpha, *distribution, *multiscatter, *masking);
             conductor(check, field, rough, *eta, *k, f0)?
         }
         MaterialDesc::ThinDielectric { ior } => thin_dielectric(check, field, *ior)?,
@@ -178,10 +197,11 @@ pub(super) fn material(
             nonlinear,
             alpha,
             distribution,
+            masking,
             transmittance,
         } => {
             // Mitsuba's roughplastic is single scattering only; there is no compensation key.
-            let rough = Rough::of(*alpha, *distribution, false);
+            let rough = Rough::of(*alpha, *distribution, false, *masking);
             let (specular, ior, nonlinear) = (*specular, *ior, *nonlinear);
             let coating = Coating {
                 specular,

@@ -6,7 +6,7 @@ use super::values::{ColorParam, Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
 use crate::scene::description::{
-    CoatingTransmittanceDesc, Color, ColorOrTexture, MaterialDesc, MicrofacetDesc,
+    CoatingTransmittanceDesc, Color, ColorOrTexture, MaskingDesc, MaterialDesc, MicrofacetDesc,
 };
 
 /// Mitsuba's named indices of refraction (its `dielectric` table).
@@ -210,6 +210,7 @@ fn plastic(ctx: &Ctx, p: &Props, rough: bool, frame: UvFrame) -> Result<Material
         nonlinear: p.bool("nonlinear")?.unwrap_or(false),
         alpha,
         distribution,
+        masking: MITSUBA_MASKING,
         transmittance: if rough {
             CoatingTransmittanceDesc::Microfacet
         } else {
@@ -241,12 +242,16 @@ fn dielectric(p: &Props, rough: bool) -> Result<MaterialDesc> {
         alpha,
         distribution,
         multiscatter: MITSUBA_MULTISCATTER,
+        masking: MITSUBA_MASKING,
     })
 }
 
 /// Mitsuba's rough conductors and dielectrics model single scattering between
 /// microfacets only: imported scenes keep brume's energy compensation off to match.
 const MITSUBA_MULTISCATTER: bool = false;
+
+/// Mitsuba's microfacet models mask and shadow separably, G1(wi) · G1(wo).
+const MITSUBA_MASKING: MaskingDesc = MaskingDesc::Separable;
 
 /// `conductor` / `roughconductor`: material "none" (a perfect reflector) or `eta`/`k` as RGB.
 fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
@@ -286,6 +291,7 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
             k: None,
             f0: Some(ColorOrTexture::Color(Color([1.0; 3]))),
             multiscatter: MITSUBA_MULTISCATTER,
+            masking: MITSUBA_MASKING,
         }),
         (None, true) => Ok(MaterialDesc::Conductor {
             alpha,
@@ -294,6 +300,7 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
             k: Some(rgb(k, "k")?.unwrap_or(Color([1.0; 3]))),
             f0: None,
             multiscatter: MITSUBA_MULTISCATTER,
+            masking: MITSUBA_MASKING,
         }),
     }
 }

@@ -208,12 +208,18 @@ impl<'a> Builder<'a> {
             .sensor
             .ok_or_else(|| root.error("the scene has no <sensor> (brume needs a camera)"))?;
         let mut trace = Trace::default();
-        let mut integrator = sensor::integrator(ctx, self.integrator)?;
+        let (mut integrator, direct) = sensor::integrator(ctx, self.integrator)?;
         sensor.settings(&mut integrator);
         trace.summary.push(sensor.summary(&integrator));
         trace.origin("camera", sensor.node, false);
         trace.origin("integrator", self.integrator.unwrap_or(sensor.node), false);
         let media = medium::place(ctx, &self.shapes, sensor.medium, sensor.camera.position)?;
+        if let Some(direct) = direct.filter(|_| !media.media.is_empty()) {
+            return Err(unsupported(
+                direct,
+                "the direct integrator in a scene with media (Mitsuba's direct does not trace them: use volpath)",
+            ));
+        }
         let mut shapes: Vec<ShapeDesc> = Vec::new();
         for ((i, s), interior) in self.shapes.into_iter().enumerate().zip(media.interiors) {
             trace.origin(&format!("shape[{i}]"), s.node, true);

@@ -256,14 +256,18 @@ fn read_sampler(ctx: &Ctx, node: &Node) -> Result<(u32, u64, &'static str)> {
     Ok((spp, seed, kind))
 }
 
-/// `<integrator>`: path, volpath or volpathmis (inside moment/aov wrappers).
-pub(crate) fn integrator(ctx: &Ctx, node: Option<&Node>) -> Result<IntegratorDesc> {
+/// `<integrator>`: path, volpath, volpathmis or direct (inside moment/aov
+/// wrappers), and the `direct` element if it is that one (it has no media).
+pub(crate) fn integrator<'a>(
+    ctx: &Ctx<'a>,
+    node: Option<&'a Node>,
+) -> Result<(IntegratorDesc, Option<&'a Node>)> {
     let mut desc = IntegratorDesc {
         max_depth: u32::MAX,
         ..IntegratorDesc::default()
     };
     let Some(mut node) = node else {
-        return Ok(desc); // Mitsuba's default: path, unlimited depth
+        return Ok((desc, None)); // Mitsuba's default: path, unlimited depth
     };
     while matches!(node.required("type")?, "moment" | "aov") {
         let p = ctx.props(node)?;
@@ -282,10 +286,13 @@ pub(crate) fn integrator(ctx: &Ctx, node: Option<&Node>) -> Result<IntegratorDes
         );
         node = inner[0].node;
     }
+    if node.required("type")? == "direct" {
+        return Ok((direct(ctx, node, desc)?, Some(node)));
+    }
     if !matches!(node.required("type")?, "path" | "volpath" | "volpathmis") {
         return Err(unsupported(
             node,
-            "this integrator (path, volpath, volpathmis)",
+            "this integrator (path, volpath, volpathmis, direct)",
         ));
     }
     let p = ctx.props(node)?;
@@ -310,5 +317,31 @@ pub(crate) fn integrator(ctx: &Ctx, node: Option<&Node>) -> Result<IntegratorDes
         return Err(unsupported(node, "hide_emitters"));
     }
     p.finish()?;
+    Ok((desc, None))
+}
+
+/// `<integrator type="direct">`: emitters seen directly and light reflected
+/// once, sampled by the emitters and the BSDF under MIS; the path tracer
+/// with one scattering vertex has that expectation. Its sample counts
+/// change only the noise: brume takes one of each per pixel sample.
+fn direct(ctx: &Ctx, node: &Node, mut desc: IntegratorDesc) -> Result<IntegratorDesc> {
+    let p = ctx.props(node)?;
+    for key in ["shading_samples", "emitter_samples", "bsdf_samples"] {
+        if let Some(n) = p.int(key)? {
+            let at = p.node_of(key).unwrap_or(node);
+            if n < 0 {
+                return Err(at.error("must be 0 or more"));
+            }
+            ctx.warn(
+                at,
+                "brume takes one emitter and one BSDF sample per pixel sample (the same image, other noise)",
+            );
+        }
+    }
+    if p.bool("hide_emitters")? == Some(true) {
+        return Err(unsupported(node, "hide_emitters"));
+    }
+    p.finish()?;
+    desc.max_depth = 1;
     Ok(desc)
 }
