@@ -95,3 +95,11 @@ fn a_turned_spheres_texture_coordinates_are_mitsubas() {
     }
     let _ = Vec3::ZERO;
 }
+
+/// Texture coordinates that need an offset: a clamped bitmap on a rectangle
+/// (Mitsuba's rows run down, so v ↦ 1 − v), a mirrored bitmap under a
+/// to_uv that scales and translates, a nearest-filtered bitmap shifted in u.
+#[test]
+fn textures_with_offsets_mirroring_and_nearest_render_like_their_toml_twin() {
+    assert_twins("textured_offsets");
+}

@@ -319,3 +319,128 @@ fn receiver_under_a_checkerboard_emitter_sees_each_square_at_its_radiance() {
     let pixels = estimate_pixels(&scene, 2048);
     assert_pixels_equal(&pixels, want, "checkerboard emitter over a receiver");
 }
+
+/// The texels of tests/data/mitsuba/ramp4x4.png (8-bit RGB, row 0 at the top).
+const RAMP: [[u8; 3]; 16] = [
+    [40, 30, 200],
+    [90, 30, 160],
+    [140, 30, 120],
+    [190, 30, 80],
+    [40, 90, 170],
+    [90, 90, 130],
+    [140, 90, 90],
+    [190, 90, 50],
+    [40, 150, 140],
+    [90, 150, 100],
+    [140, 150, 60],
+    [190, 150, 20],
+    [40, 210, 110],
+    [90, 210, 70],
+    [140, 210, 30],
+    [190, 210, 10],
+];
+
+/// Mitsuba 3's `bitmap` of ramp4x4.png (`raw`) at five (u, v), as its
+/// scalar_rgb variant prints them (`mi.load_dict({'type': 'bitmap', ...}).eval(si)`):
+/// mirrored bilinear, mirrored nearest, clamped nearest, repeated nearest.
+const MITSUBA_BITMAP: [(&str, &str, [[f32; 3]; 5]); 4] = [
+    (
+        "mirror",
+        "bilinear",
+        [
+            [0.156863, 0.188235, 0.74902],
+            [0.686275, 0.823529, 0.062745],
+            [0.294118, 0.423529, 0.521569],
+            [0.568627, 0.564706, 0.231373],
+            [0.607843, 0.752941, 0.122353],
+        ],
+    ),
+    (
+        "mirror",
+        "nearest",
+        [
+            [0.156863, 0.117647, 0.784314],
+            [0.745098, 0.823529, 0.039216],
+            [0.352941, 0.352941, 0.509804],
+            [0.54902, 0.588235, 0.235294],
+            [0.54902, 0.823529, 0.117647],
+        ],
+    ),
+    (
+        "clamp",
+        "nearest",
+        [
+            [0.156863, 0.117647, 0.784314],
+            [0.745098, 0.823529, 0.039216],
+            [0.156863, 0.352941, 0.666667],
+            [0.745098, 0.117647, 0.313726],
+            [0.745098, 0.823529, 0.039216],
+        ],
+    ),
+    (
+        "repeat",
+        "nearest",
+        [
+            [0.156863, 0.117647, 0.784314],
+            [0.745098, 0.823529, 0.039216],
+            [0.54902, 0.352941, 0.352941],
+            [0.352941, 0.352941, 0.509804],
+            [0.54902, 0.117647, 0.470588],
+        ],
+    ),
+];
+
+/// brume's mirror wrap and nearest filter are Mitsuba's: an image looked up
+/// at (u, 1 − v) through `uv_scale = [1, −1]`, `uv_offset = [0, 1]` (Mitsuba's
+/// rows run down) gives Mitsuba's bitmap values, inside and outside [0, 1]².
+/// Seen failing with the mirror taken as a repeat, and with nearest taken as
+/// bilinear.
+#[test]
+fn mirrored_and_nearest_lookups_match_mitsubas_bitmap() {
+    use brume::material::texture::{Filter, Image, Texture, Wrap};
+    use brume::math::Vec2;
+    let points = [
+        (0.1, 0.2),
+        (0.8, 0.9),
+        (-0.3, 0.45),
+        (1.35, -0.6),
+        (2.7, 1.2),
+    ];
+    let texels: Vec<Rgb> = RAMP
+        .iter()
+        .map(|t| {
+            Rgb::new(
+                t[0] as f32 / 255.0,
+                t[1] as f32 / 255.0,
+                t[2] as f32 / 255.0,
+            )
+        })
+        .collect();
+    for (wrap, filter, expected) in MITSUBA_BITMAP {
+        let wrap_mode = match wrap {
+            "mirror" => Wrap::Mirror,
+            "clamp" => Wrap::Clamp,
+            _ => Wrap::Repeat,
+        };
+        let texture = Texture::Image {
+            image: std::sync::Arc::new(Image::new(4, 4, texels.clone(), wrap_mode).unwrap()),
+            scale: Rgb::WHITE,
+            uv_scale: Vec2::new(1.0, -1.0),
+            uv_offset: Vec2::new(0.0, 1.0),
+            filter: match filter {
+                "nearest" => Filter::Nearest,
+                _ => Filter::Bilinear,
+            },
+        };
+        for ((u, v), want) in points.into_iter().zip(expected) {
+            let got = texture.eval(Vec2::new(u, v));
+            let got = [got.r, got.g, got.b];
+            for c in 0..3 {
+                assert!(
+                    (got[c] - want[c]).abs() < 2e-5,
+                    "{wrap} {filter} at ({u}, {v}): {got:?} vs Mitsuba's {want:?}"
+                );
+            }
+        }
+    }
+}

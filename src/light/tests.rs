@@ -248,6 +248,7 @@ fn textured_area_light_samples_carry_the_texture_at_their_point() {
         a: Rgb::new(1.0, 2.0, 3.0),
         b: Rgb::new(0.5, 0.25, 4.0),
         uv_scale: Vec2::new(3.0, 2.0),
+        uv_offset: Vec2::ZERO,
     };
     let quad = Primitive::Parallelogram {
         corner: Vec3::new(-1.0, 2.0, -1.0),

@@ -9,7 +9,8 @@
 //!   u = (i + ½)/w, v = 1 − (j + ½)/h; between centres the value is
 //!   bilinear in (u, v).
 //! - outside [0, 1] the wrap mode applies: `Repeat` tiles the image,
-//!   `Clamp` extends its edge texels.
+//!   `Mirror` tiles it mirrored every other time, `Clamp` extends its edge
+//!   texels; `Nearest` filtering takes the texel the point falls in.
 //! - texels are linear RGB f32, decoded once at scene load (8- and 16-bit
 //!   PNG through the sRGB curve unless declared linear; EXR as stored).
 
@@ -22,8 +23,19 @@ use std::sync::Arc;
 pub enum Wrap {
     /// Tile the image: u and u + 1 look up the same texel.
     Repeat,
+    /// Tile the image mirrored every other time: u and 2 − u look up the same texel.
+    Mirror,
     /// Extend the edge texels.
     Clamp,
+}
+
+/// How an image lookup between texel centres is answered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Filter {
+    /// Bilinear between the four nearest texel centres.
+    Bilinear,
+    /// The texel the point falls in.
+    Nearest,
 }
 
 /// An image of linear RGB texels, row 0 at the top.
@@ -86,8 +98,31 @@ impl Image {
     fn wrap_index(&self, k: i64, n: usize) -> usize {
         match self.wrap {
             Wrap::Repeat => k.rem_euclid(n as i64) as usize,
+            Wrap::Mirror => {
+                let (n, k) = (n as i64, k.rem_euclid(2 * n as i64));
+                (if k < n { k } else { 2 * n - 1 - k }) as usize
+            }
             Wrap::Clamp => k.clamp(0, n as i64 - 1) as usize,
         }
+    }
+
+    /// The texel `uv` falls in.
+    #[inline]
+    pub fn nearest(&self, uv: Vec2) -> Rgb {
+        let x = (uv.x * self.width as f32).floor();
+        let y = ((1.0 - uv.y) * self.height as f32).floor();
+        if !(x.is_finite() && y.is_finite()) {
+            return Rgb::BLACK;
+        }
+        let limit = 1 << 24;
+        let (i, j) = (
+            (x as i64).clamp(-limit, limit),
+            (y as i64).clamp(-limit, limit),
+        );
+        self.texel(
+            self.wrap_index(i, self.width),
+            self.wrap_index(j, self.height),
+        )
     }
 
     /// Bilinear lookup at `uv`.
@@ -127,7 +162,7 @@ impl Image {
 pub enum Texture {
     /// The same colour everywhere (no texture coordinates needed).
     Constant(Rgb),
-    /// An image, bilinearly filtered.
+    /// An image, bilinearly filtered or nearest.
     Image {
         /// The texels.
         image: Arc<Image>,
@@ -135,6 +170,10 @@ pub enum Texture {
         scale: Rgb,
         /// Texture coordinates are multiplied by this before the lookup (tiling).
         uv_scale: Vec2,
+        /// Then this is added.
+        uv_offset: Vec2,
+        /// Bilinear or nearest.
+        filter: Filter,
     },
     /// Squares of two colours: over [0, 1]² a 2 × 2 board, `a` at the bottom-left.
     Checkerboard {
@@ -144,6 +183,8 @@ pub enum Texture {
         b: Rgb,
         /// Texture coordinates are multiplied by this (uv_scale 4: an 8 × 8 board over [0, 1]²).
         uv_scale: Vec2,
+        /// Then this is added.
+        uv_offset: Vec2,
     },
 }
 
@@ -157,9 +198,22 @@ impl Texture {
                 image,
                 scale,
                 uv_scale,
-            } => image.bilinear(uv * *uv_scale) * *scale,
-            Texture::Checkerboard { a, b, uv_scale } => {
-                let s = uv * *uv_scale * 2.0;
+                uv_offset,
+                filter,
+            } => {
+                let at = uv * *uv_scale + *uv_offset;
+                match filter {
+                    Filter::Bilinear => image.bilinear(at) * *scale,
+                    Filter::Nearest => image.nearest(at) * *scale,
+                }
+            }
+            Texture::Checkerboard {
+                a,
+                b,
+                uv_scale,
+                uv_offset,
+            } => {
+                let s = (uv * *uv_scale + *uv_offset) * 2.0;
                 let (i, j) = (s.x.floor(), s.y.floor());
                 if (i + j).rem_euclid(2.0) == 0.0 {
                     *a
@@ -305,6 +359,7 @@ mod tests {
             a,
             b,
             uv_scale: Vec2::ONE,
+            uv_offset: Vec2::ZERO,
         };
         assert_eq!(t.eval(Vec2::new(0.25, 0.25)), a);
         assert_eq!(t.eval(Vec2::new(0.75, 0.25)), b);
@@ -316,6 +371,7 @@ mod tests {
             a,
             b,
             uv_scale: Vec2::new(4.0, 1.0),
+            uv_offset: Vec2::ZERO,
         };
         // 8 squares across u, 2 across v.
         let row: Vec<bool> = (0..8)
@@ -333,6 +389,8 @@ mod tests {
             image: Arc::new(image(Wrap::Repeat)),
             scale: Rgb::new(2.0, 1.0, 0.5),
             uv_scale: Vec2::new(2.0, 1.0),
+            uv_offset: Vec2::ZERO,
+            filter: Filter::Bilinear,
         };
         let img = image(Wrap::Repeat);
         let got = t.eval(Vec2::new(centre(1.0, 0.0).x / 2.0, centre(1.0, 0.0).y));

@@ -116,9 +116,12 @@ pub struct TextureDesc {
     /// PNG or EXR file, relative to the scene file (image).
     #[serde(default)]
     pub file: Option<PathBuf>,
-    /// `repeat` (default) or `clamp` (image).
+    /// `repeat` (default), `mirror` or `clamp` (image).
     #[serde(default)]
     pub wrap: Option<String>,
+    /// `bilinear` (default) or `nearest` (image).
+    #[serde(default)]
+    pub filter: Option<String>,
     /// `srgb` (PNG default) or `linear` (image).
     #[serde(default)]
     pub color_space: Option<String>,
@@ -134,6 +137,9 @@ pub struct TextureDesc {
     /// Factor on the texture coordinates: a number or `[su, sv]` (default 1).
     #[serde(default)]
     pub uv_scale: Option<UvScale>,
+    /// Added to the scaled texture coordinates: `[du, dv]` (default 0).
+    #[serde(default)]
+    pub uv_offset: Option<[f32; 2]>,
 }
 
 /// `uv_scale`: one number for both axes or `[su, sv]`.

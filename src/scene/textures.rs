@@ -6,7 +6,7 @@ use super::files::{check_input, Format};
 use super::resolve;
 use super::validate::Check;
 use crate::error::Result;
-use crate::material::texture::{Image, Texture, Wrap};
+use crate::material::texture::{Filter, Image, Texture, Wrap};
 use crate::math::color::{srgb_to_linear, Rgb};
 use crate::math::Vec2;
 use std::path::{Path, PathBuf};
@@ -45,8 +45,16 @@ pub(super) fn build(
     };
     let f = |key: &str| format!("{field}.{key}");
     let used: &[&str] = match desc.kind.as_str() {
-        "image" => &["file", "wrap", "color_space", "scale", "uv_scale"],
-        "checkerboard" => &["a", "b", "uv_scale"],
+        "image" => &[
+            "file",
+            "wrap",
+            "filter",
+            "color_space",
+            "scale",
+            "uv_scale",
+            "uv_offset",
+        ],
+        "checkerboard" => &["a", "b", "uv_scale", "uv_offset"],
         other => {
             return Err(check.error(
                 &f("type"),
@@ -56,6 +64,13 @@ pub(super) fn build(
     };
     reject_foreign_keys(check, field, desc, used)?;
     let uv_scale = uv_scale(check, &f("uv_scale"), desc.uv_scale)?;
+    let uv_offset = match desc.uv_offset {
+        Some([du, dv]) => Vec2::new(
+            check.finite(&format!("{}[0]", f("uv_offset")), du)?,
+            check.finite(&format!("{}[1]", f("uv_offset")), dv)?,
+        ),
+        None => Vec2::ZERO,
+    };
     if desc.kind == "checkerboard" {
         let get = |key: &str, c: Option<Color>| {
             c.ok_or_else(|| check.error(&f(key), "missing"))
@@ -65,6 +80,7 @@ pub(super) fn build(
             a: get("a", desc.a)?,
             b: get("b", desc.b)?,
             uv_scale,
+            uv_offset,
         });
     }
     let scale = match desc.scale {
@@ -80,6 +96,8 @@ pub(super) fn build(
         image,
         scale,
         uv_scale,
+        uv_offset,
+        filter: filter(check, field, desc)?,
     })
 }
 
@@ -100,6 +118,8 @@ fn reject_foreign_keys(
     let present = [
         ("file", desc.file.is_some()),
         ("wrap", desc.wrap.is_some()),
+        ("filter", desc.filter.is_some()),
+        ("uv_offset", desc.uv_offset.is_some()),
         ("color_space", desc.color_space.is_some()),
         ("scale", desc.scale.is_some()),
         ("a", desc.a.is_some()),
@@ -231,14 +251,27 @@ fn image_format(check: &Check, file_field: &str, path: &Path) -> Result<Format> 
     }
 }
 
+/// The `filter` of an image texture (bilinear when absent).
+fn filter(check: &Check, field: &str, desc: &TextureDesc) -> Result<Filter> {
+    match desc.filter.as_deref() {
+        None | Some("bilinear") => Ok(Filter::Bilinear),
+        Some("nearest") => Ok(Filter::Nearest),
+        Some(other) => Err(check.error(
+            &format!("{field}.filter"),
+            format!("unknown filter `{other}`, expected \"bilinear\" or \"nearest\""),
+        )),
+    }
+}
+
 /// The `wrap` mode of an image texture (repeat when absent).
 fn wrap_mode(check: &Check, field: &str, desc: &TextureDesc) -> Result<Wrap> {
     match desc.wrap.as_deref() {
         None | Some("repeat") => Ok(Wrap::Repeat),
         Some("clamp") => Ok(Wrap::Clamp),
+        Some("mirror") => Ok(Wrap::Mirror),
         Some(other) => Err(check.error(
             &format!("{field}.wrap"),
-            format!("unknown wrap mode `{other}`, expected \"repeat\" or \"clamp\""),
+            format!("unknown wrap mode `{other}`, expected \"repeat\", \"mirror\" or \"clamp\""),
         )),
     }
 }

@@ -31,70 +31,82 @@ pub(crate) fn read(ctx: &Ctx, node: &Node, frame: UvFrame) -> Result<TextureDesc
         return Err(unsupported(node, why));
     }
     let p = ctx.props(node)?;
-    let (su, sv) = to_uv(&p)?;
+    let to_uv = to_uv(&p)?;
     let mut desc = TextureDesc {
         kind: String::new(),
         file: None,
         wrap: None,
+        filter: None,
         color_space: None,
         scale: None,
         a: None,
         b: None,
         uv_scale: None,
+        uv_offset: None,
     };
-    // brume's v coordinate of the lookup is offset + slope · v (brume's v on the shape).
-    let (offset, slope, periodic) = if kind == "checkerboard" {
+    // Mitsuba looks up (su u + tu, sv v + tv) of its (u, v) on the shape.
+    let ToUv { su, sv, tu, tv } = to_uv;
+    // The same in brume's (u, v) on the shape: v + offset · slope.
+    let (v_offset, v_slope) = match frame {
+        UvFrame::Flipped => (sv + tv, -sv),
+        _ => (tv, sv),
+    };
+    let (period, v_offset, v_slope) = if kind == "checkerboard" {
         desc.kind = "checkerboard".into();
         desc.a = Some(constant(&p, "color0", 0.4)?);
         desc.b = Some(constant(&p, "color1", 0.2)?);
         // Both boards put color0 / a in [0, ½)² and repeat with period 1.
-        match frame {
-            UvFrame::Flipped => (sv, -sv, true),
-            _ => (0.0, sv, true),
-        }
+        (Some(1.0), v_offset, v_slope)
     } else {
         desc.kind = "image".into();
-        let repeat = bitmap(ctx, &p, &mut desc)?;
         // Mitsuba's bitmap v runs down the rows, brume's up them: v ↦ 1 − v.
-        match frame {
-            UvFrame::Flipped => (1.0 - sv, sv, repeat),
-            _ => (1.0, -sv, repeat),
-        }
+        (bitmap(ctx, &p, &mut desc)?, 1.0 - v_offset, -v_slope)
     };
-    // brume's textures scale (u, v) but have no offset: one is only absorbed
-    // when it is a whole number of periods of a repeating texture.
-    if offset != 0.0 && !(periodic && offset.fract() == 0.0) {
-        return Err(unsupported(
-            p.node_of("to_uv").or(p.node_of("wrap_mode")).unwrap_or(node),
-            &format!(
-                "this to_uv / wrap_mode on this shape (Mitsuba's v runs against brume's here, \
-                 which needs a v offset of {offset}; brume's textures only absorb whole periods of a repeating texture)"
-            ),
-        ));
+    // An offset of whole periods of a repeating texture changes nothing: left out.
+    let needed = |offset: f64| match period {
+        Some(period) if (offset / period).fract() == 0.0 => 0.0,
+        _ => offset,
+    };
+    let (u_offset, v_offset) = (needed(tu), needed(v_offset));
+    desc.uv_scale = Some(UvScale::Each([su as f32, v_slope as f32]));
+    if (u_offset, v_offset) != (0.0, 0.0) {
+        desc.uv_offset = Some([u_offset as f32, v_offset as f32]);
     }
-    desc.uv_scale = Some(UvScale::Each([su as f32, slope as f32]));
     p.finish()?;
     Ok(desc)
 }
 
-/// `to_uv`: only a scale of u and v (a rotation, shear or translation is refused).
-fn to_uv(p: &Props) -> Result<(f64, f64)> {
+/// A `to_uv` of scales and translations of u and v.
+struct ToUv {
+    su: f64,
+    sv: f64,
+    tu: f64,
+    tv: f64,
+}
+
+/// `to_uv`: a scale and a translation of u and v (a rotation or shear is refused).
+fn to_uv(p: &Props) -> Result<ToUv> {
     let Some(m) = p.transform("to_uv")? else {
-        return Ok((1.0, 1.0));
+        return Ok(ToUv {
+            su: 1.0,
+            sv: 1.0,
+            tu: 0.0,
+            tv: 0.0,
+        });
     };
     let at = p.node_of("to_uv").unwrap_or(p.owner);
     let (su, sv) = (m.x_axis.x, m.y_axis.y);
-    let plain = m.x_axis.y == 0.0 && m.y_axis.x == 0.0 && m.w_axis.x == 0.0 && m.w_axis.y == 0.0;
-    if !plain {
+    let (tu, tv) = (m.w_axis.x, m.w_axis.y);
+    if m.x_axis.y != 0.0 || m.y_axis.x != 0.0 {
         return Err(unsupported(
             at,
-            "a to_uv other than a scale (rotation, shear or translation of the texture coordinates)",
+            "a to_uv with rotation or shear of the texture coordinates (scales and translations only)",
         ));
     }
-    if su == 0.0 || sv == 0.0 || !su.is_finite() || !sv.is_finite() {
-        return Err(at.error("to_uv must scale u and v by finite, non-zero factors"));
+    if su == 0.0 || sv == 0.0 || ![su, sv, tu, tv].iter().all(|v| v.is_finite()) {
+        return Err(at.error("to_uv must scale u and v by finite, non-zero factors and translate them by finite amounts"));
     }
-    Ok((su, sv))
+    Ok(ToUv { su, sv, tu, tv })
 }
 
 /// A constant colour of a checkerboard (a nested texture is refused).
@@ -106,46 +118,37 @@ fn constant(p: &Props, key: &str, grey: f32) -> Result<Color> {
     }
 }
 
-/// `bitmap`: filename, filter_type, wrap_mode and raw; true when it repeats.
-fn bitmap(ctx: &Ctx, p: &Props, desc: &mut TextureDesc) -> Result<bool> {
+/// `bitmap`: filename, filter_type, wrap_mode and raw; its period in (u, v)
+/// (1 repeating, 2 mirrored, none clamped).
+fn bitmap(ctx: &Ctx, p: &Props, desc: &mut TextureDesc) -> Result<Option<f64>> {
     let (name, at) = p
         .string("filename")?
         .ok_or_else(|| p.owner.error("give <string name=\"filename\">"))?;
     desc.file = Some(ctx.file(name, at)?);
     match p.string("filter_type")? {
         None | Some(("bilinear", _)) => {}
-        Some(("nearest", at)) => {
-            return Err(unsupported(
-                at,
-                "filter_type nearest (brume's image textures are bilinear)",
-            ))
-        }
+        Some(("nearest", _)) => desc.filter = Some("nearest".into()),
         Some((other, at)) => {
             return Err(at.error(format!(
                 "unknown filter_type `{other}` (Mitsuba's are bilinear and nearest)"
             )))
         }
     }
-    let repeat = match p.string("wrap_mode")? {
-        None | Some(("repeat", _)) => true,
-        Some(("clamp", _)) => false,
-        Some(("mirror", at)) => {
-            return Err(unsupported(
-                at,
-                "wrap_mode mirror (brume's images repeat or clamp)",
-            ))
-        }
+    let (wrap, period) = match p.string("wrap_mode")? {
+        None | Some(("repeat", _)) => ("repeat", Some(1.0)),
+        Some(("mirror", _)) => ("mirror", Some(2.0)),
+        Some(("clamp", _)) => ("clamp", None),
         Some((other, at)) => {
             return Err(at.error(format!(
                 "unknown wrap_mode `{other}` (Mitsuba's are repeat, mirror and clamp)"
             )))
         }
     };
-    desc.wrap = Some(if repeat { "repeat" } else { "clamp" }.into());
+    desc.wrap = Some(wrap.into());
     // Mitsuba decodes 8-bit data through the sRGB curve unless raw; brume's
     // PNGs are sRGB unless declared linear, and EXR/HDR are linear either way.
     if p.bool("raw")? == Some(true) {
         desc.color_space = Some("linear".into());
     }
-    Ok(repeat)
+    Ok(period)
 }
