@@ -6,7 +6,10 @@ use crate::sampling::{warp, Sampler};
 use std::sync::Arc;
 
 mod importance;
+mod pixel_filter;
+
 pub use importance::CameraConnection;
+pub use pixel_filter::PixelFilter;
 
 /// Which image axis the field of view spans.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -46,6 +49,8 @@ pub struct Camera {
     focus_distance: f32,
     width: u32,
     height: u32,
+    /// How a pixel weighs the film around it.
+    filter: PixelFilter,
 }
 
 impl Camera {
@@ -78,6 +83,7 @@ impl Camera {
             focus_distance: 1.0,
             width,
             height,
+            filter: PixelFilter::Box,
         })
     }
 
@@ -127,6 +133,24 @@ impl Camera {
         self.aperture_radius = aperture_radius;
         self.focus_distance = focus_distance;
         self
+    }
+
+    /// The same camera with pixels weighing the film by `filter`.
+    pub fn with_filter(mut self, filter: PixelFilter) -> Camera {
+        self.filter = filter;
+        self
+    }
+
+    /// True when the pixels weigh the film by more than their own square.
+    pub fn has_wide_filter(&self) -> bool {
+        !matches!(self.filter, PixelFilter::Box)
+    }
+
+    /// The film point of pixel `(x, y)` for `u` ∈ [0,1)², as an offset
+    /// from the pixel's corner (the pixel filter's sample).
+    #[inline]
+    pub fn pixel_offset(&self, x: u32, y: u32, u: Vec2) -> Vec2 {
+        self.filter.offset(x, y, (self.width, self.height), u)
     }
 
     /// Image width in pixels.
@@ -213,7 +237,7 @@ impl Camera {
     }
 
     fn sample_ray_from(&self, view: &View, x: u32, y: u32, sampler: &mut Sampler) -> Ray {
-        let u = sampler.next_2d();
+        let u = self.pixel_offset(x, y, sampler.next_2d());
         if self.has_lens() {
             self.lens_ray(view, x, y, u, sampler.next_2d())
         } else {

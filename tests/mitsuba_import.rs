@@ -598,3 +598,32 @@ fn nested_medium_meshes_keep_mitsubas_interfaces() {
     let rule = desc.interfaces.expect("interface rule");
     assert_eq!(rule.shapes, vec![Some([Some(0), None]); 2]);
 }
+
+/// The film's reconstruction filter: Mitsuba's default (none given, or no
+/// film) is its Gaussian of stddev 0.5; a box stays a box; a Gaussian keeps
+/// its stddev.
+#[test]
+fn the_films_filter_becomes_the_cameras_pixel_filter() {
+    let filter = |film: &str| {
+        load(
+            &format!(r#"<sensor type="perspective">{film}</sensor>"#),
+            &[],
+        )
+        .camera
+        .pixel_filter
+        .map(|f| (f.kind, f.stddev))
+    };
+    let gaussian = |s: Option<f32>| Some(("gaussian".to_string(), s));
+    assert_eq!(filter(""), gaussian(None));
+    assert_eq!(filter(r#"<film type="hdrfilm"/>"#), gaussian(None));
+    assert_eq!(
+        filter(r#"<film type="hdrfilm"><rfilter type="box"/></film>"#),
+        None
+    );
+    assert_eq!(
+        filter(
+            r#"<film type="hdrfilm"><rfilter type="gaussian"><float name="stddev" value="0.25"/></rfilter></film>"#
+        ),
+        gaussian(Some(0.25))
+    );
+}

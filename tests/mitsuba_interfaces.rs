@@ -49,7 +49,7 @@ fn load(body: &str, sensor_medium: &str, max_depth: u32) -> (tempfile::TempDir, 
     let text = format!(
         r#"<scene version="3.0.0">{MEDIA}
         <integrator type="volpath"><integer name="max_depth" value="{max_depth}"/></integrator>
-        <sensor type="perspective"><float name="fov" value="10"/>{sensor_medium}</sensor>
+        <sensor type="perspective"><float name="fov" value="10"/>{sensor_medium}<film type="hdrfilm"><rfilter type="box"/></film></sensor>
         {body}</scene>"#
     );
     std::fs::write(&path, text).unwrap();
@@ -243,7 +243,7 @@ fn other_integrators_refuse_a_scene_that_needs_the_rule() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("scene.xml");
     let body = format!(
-        r#"<scene version="3.0.0">{MEDIA}<sensor type="perspective"/>{}{}{EMITTER}</scene>"#,
+        r#"<scene version="3.0.0">{MEDIA}<sensor type="perspective"><film type="hdrfilm"><rfilter type="box"/></film></sensor>{}{}{EMITTER}</scene>"#,
         slab_cube(2.0, 6.0, r#"<ref name="interior" id="a"/>"#),
         slab_cube(4.0, 9.0, r#"<ref name="interior" id="b"/>"#)
     );

@@ -59,7 +59,8 @@ pub fn aov_sample(scene: &Scene, x: u32, y: u32, beauty: &PixelStreams, s: u32) 
         Some(_) => scene.settings.sample_time(beauty.time_1d()),
         None => 0.0,
     };
-    let ray = scene.camera.generate_ray_at(x, y, beauty.next_2d(), time);
+    let offset = scene.camera.pixel_offset(x, y, beauty.next_2d());
+    let ray = scene.camera.generate_ray_at(x, y, offset, time);
     let mut sampler = Sampler::new(seed ^ AOV_STREAM_KEY, x, y, s as u64);
     first_vertex(scene, &ray, &mut sampler)
 }

@@ -3,7 +3,7 @@
 use super::description::SceneDesc;
 use super::keyframes;
 use super::validate::Check;
-use crate::camera::{Camera, FovAxis};
+use crate::camera::{Camera, FovAxis, PixelFilter};
 use crate::error::Result;
 
 /// Position, look_at and up of the camera at rest, and the keyframes that move it.
@@ -66,7 +66,44 @@ pub(super) fn build_camera(desc: &SceneDesc, check: &Check) -> Result<Camera> {
         Some(f) => check.positive("camera.focus_distance", f)?,
         None => view.length() as f32,
     };
-    Ok(camera.with_fov_axis(axis).with_lens(aperture, focus))
+    Ok(camera
+        .with_fov_axis(axis)
+        .with_lens(aperture, focus)
+        .with_filter(pixel_filter(desc, check)?))
+}
+
+/// `camera.pixel_filter`: box, or a Gaussian of `stddev` pixels (path tracer only).
+fn pixel_filter(desc: &SceneDesc, check: &Check) -> Result<PixelFilter> {
+    let Some(f) = &desc.camera.pixel_filter else {
+        return Ok(PixelFilter::Box);
+    };
+    match (f.kind.as_str(), f.stddev) {
+        ("box", None) => Ok(PixelFilter::Box),
+        ("box", Some(_)) => {
+            Err(check.error("camera.pixel_filter.stddev", "a box filter has no stddev"))
+        }
+        ("gaussian", _) if desc.integrator.kind != "path" => Err(check.error(
+            "camera.pixel_filter",
+            format!(
+                "a gaussian pixel filter is supported by the path tracer only, not `{}`",
+                desc.integrator.kind
+            ),
+        )),
+        ("gaussian", stddev) => {
+            let stddev = check.range(
+                "camera.pixel_filter.stddev",
+                stddev.unwrap_or(0.5),
+                0.0,
+                16.0,
+                false,
+            )?;
+            Ok(PixelFilter::gaussian(stddev))
+        }
+        (other, _) => Err(check.error(
+            "camera.pixel_filter.type",
+            format!("unknown pixel filter `{other}`, expected \"box\" or \"gaussian\""),
+        )),
+    }
 }
 
 /// Refuses a camera position whose f32 ray arithmetic overflows (issue 11):

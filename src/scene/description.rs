@@ -309,6 +309,22 @@ pub struct CameraDesc {
     /// Rigid motion of the camera: `{ keyframes = [...] }` (translate and rotate only).
     #[serde(default)]
     pub transform: Option<TransformDesc>,
+    /// How a pixel weighs the film around it: `{ type = "box" }` (default) or
+    /// `{ type = "gaussian", stddev = 0.5 }`.
+    #[serde(default)]
+    pub pixel_filter: Option<PixelFilterDesc>,
+}
+
+/// `pixel_filter` of the camera.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PixelFilterDesc {
+    /// `box` or `gaussian`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// Standard deviation of a Gaussian, in pixels (default 0.5; radius 4 × it).
+    #[serde(default)]
+    pub stddev: Option<f32>,
 }
 
 fn default_up() -> [f32; 3] {

@@ -6,7 +6,7 @@ use super::transform::axes;
 use super::values::{Obj, Props};
 use super::{unsupported, Ctx};
 use crate::error::Result;
-use crate::scene::description::{CameraDesc, IntegratorDesc};
+use crate::scene::description::{CameraDesc, IntegratorDesc, PixelFilterDesc};
 use glam::{DMat4, DVec3};
 
 /// The camera, the pixel budget and the medium the camera is in.
@@ -57,11 +57,11 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
     }
     let p = ctx.props(node)?;
     let to_world = p.transform("to_world")?.unwrap_or(DMat4::IDENTITY);
-    let film = p
+    let (film, pixel_filter) = p
         .object("film", None)
         .map(|f| film(ctx, f.node))
         .transpose()?
-        .unwrap_or([768, 576]);
+        .unwrap_or(([768, 576], Some(mitsuba_gaussian(None))));
     let (spp, seed, sampler) = match p.object("sampler", None) {
         Some(s) => read_sampler(ctx, s.node)?,
         None => (4, 0, "independent"),
@@ -74,6 +74,7 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
         (camera.position, camera.look_at, camera.up) = (origin, target, up);
     }
     camera.resolution = film;
+    camera.pixel_filter = pixel_filter;
     fov(&p, &mut camera)?;
     if kind == "thinlens" {
         let need = |key: &str| -> Result<f32> {
@@ -132,6 +133,7 @@ fn placement(m: &DMat4, at: &Node) -> Result<CameraDesc> {
         aperture_radius: None,
         focus_distance: None,
         transform: None,
+        pixel_filter: None,
     })
 }
 
@@ -189,8 +191,16 @@ fn fov(p: &Props, camera: &mut CameraDesc) -> Result<()> {
     Ok(())
 }
 
-/// `<film type="hdrfilm">`: the size; a crop must be the whole frame.
-fn film(ctx: &Ctx, node: &Node) -> Result<[u32; 2]> {
+/// Mitsuba's `gaussian` reconstruction filter (its default: stddev 0.5 pixels).
+fn mitsuba_gaussian(stddev: Option<f64>) -> PixelFilterDesc {
+    PixelFilterDesc {
+        kind: "gaussian".into(),
+        stddev: stddev.map(|s| s as f32),
+    }
+}
+
+/// `<film type="hdrfilm">`: the size and the pixel filter; a crop must be the whole frame.
+fn film(ctx: &Ctx, node: &Node) -> Result<([u32; 2], Option<PixelFilterDesc>)> {
     if node.required("type")? != "hdrfilm" {
         return Err(unsupported(node, "this film (hdrfilm only)"));
     }
@@ -224,13 +234,26 @@ fn film(ctx: &Ctx, node: &Node) -> Result<[u32; 2]> {
     if p.bool("sample_border")? == Some(true) {
         return Err(unsupported(node, "sample_border"));
     }
-    match p.object("rfilter", None) {
-        Some(f) if f.node.attr("type") == Some("box") => {}
-        Some(f) => ctx.warn(f.node, "brume averages samples over each pixel (a box filter)"),
-        None => ctx.warn(node, "Mitsuba's default Gaussian pixel filter: brume averages samples over each pixel (a box filter)"),
-    }
+    let filter = match p.object("rfilter", None) {
+        Some(f) if f.node.attr("type") == Some("box") => None,
+        Some(f) if f.node.attr("type") == Some("gaussian") => {
+            let q = ctx.props(f.node)?;
+            let stddev = q.float("stddev")?;
+            q.finish()?;
+            Some(mitsuba_gaussian(stddev))
+        }
+        Some(f) => {
+            ctx.warn(
+                f.node,
+                "brume has box and gaussian pixel filters: this one is taken as a box",
+            );
+            None
+        }
+        // Mitsuba's default.
+        None => Some(mitsuba_gaussian(None)),
+    };
     p.finish()?;
-    Ok([w, h])
+    Ok(([w, h], filter))
 }
 
 /// `<sampler>`: samples per pixel, seed, and which of brume's samplers.
