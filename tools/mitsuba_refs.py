@@ -164,6 +164,10 @@ def main():
     parser.add_argument("--work", help="folder for brume's images (default: a temporary one)")
     parser.add_argument("--reuse", action="store_true",
                         help="take the images already in --work instead of rendering them again")
+    parser.add_argument("--mitsuba", metavar="VARIANT",
+                        help="also render each scene brume accepts with the installed Mitsuba 3 "
+                             "(e.g. llvm_ad_rgb), same spp and seeds, and judge it by the same "
+                             "criterion: the baseline of what the criterion lets through")
     args = parser.parse_args()
     brume = os.path.abspath(args.brume)
     work = args.work or tempfile.mkdtemp(prefix="mitsuba_refs_")
@@ -171,8 +175,9 @@ def main():
     # brume's per-pixel variance has 9 (seeds − 1) degrees of freedom (3×3
     # pooling): |z| > 3 is then a t tail, 1.5 % for two seeds, 0.6 % for four.
     limit = 2.0 * t_tail(3.0, 9 * (args.seeds - 1))
-    print("| scene | spp | brume mean (RGB) | ref mean (RGB) | z of the mean | \\|z\\|>3 | verdict |")
-    print("|---|---|---|---|---|---|---|")
+    extra = f" Mitsuba {args.mitsuba}: z, \\|z\\|>3 |" if args.mitsuba else ""
+    print(f"| scene | spp | brume mean (RGB) | ref mean (RGB) | z of the mean | \\|z\\|>3 | verdict |{extra}")
+    print("|---|---|---|---|---|---|---|" + ("---|" if args.mitsuba else ""))
     for xml, integrator, ref_path, var_path in scenes(args.data):
         name = os.path.relpath(xml, os.path.join(args.data, "tests", "scenes"))
         if args.only not in name:
@@ -194,11 +199,28 @@ def main():
         if refused:
             print(f"| {name} | | | | | | refused: {refused.replace('|', '/')} |", flush=True)
             continue
-        s = compare(images, read_exr(ref_path), read_exr(var_path), args.ref_spp)
+        ref, ref_var = read_exr(ref_path), read_exr(var_path)
+        s = compare(images, ref, ref_var, args.ref_spp)
         agree = abs(s["z_mean"]) < 3 and s["frac3"] < limit
+        baseline = ""
+        if args.mitsuba:
+            own = mitsuba_images(args.mitsuba, xml, args.spp, args.seeds)
+            m = compare(own, ref, ref_var, args.ref_spp)
+            baseline = f" {m['z_mean']:+.1f}, {100 * m['frac3']:.2f} % |"
         print(f"| {name} | {args.seeds}×{args.spp} | {rgb(s['brume'])} | {rgb(s['ref'])} | "
               f"{s['z_mean']:+.1f} | {100 * s['frac3']:.2f} % | "
-              f"{'agree' if agree else 'DISAGREE'} |", flush=True)
+              f"{'agree' if agree else 'DISAGREE'} |{baseline}", flush=True)
+
+
+def mitsuba_images(variant, xml, spp, seeds):
+    """Mitsuba's own renders of `xml` (seeds 1..N) with the installed `mitsuba` module."""
+    import mitsuba as mi
+    mi.set_variant(variant)
+    images = []
+    for seed in range(1, seeds + 1):
+        scene = mi.load_file(xml, spp=spp)
+        images.append(np.array(mi.render(scene, spp=spp, seed=seed))[..., :3])
+    return images
 
 
 if __name__ == "__main__":
