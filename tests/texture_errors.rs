@@ -123,6 +123,8 @@ fn cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
         ("slanted uv_axes seam", sphere("{ pole = [0.0, 1.0, 0.0], seam = [1.0, 0.5, 0.0] }"), vec!["shape[0].uv_axes.seam", "perpendicular"]),
         ("nan uv_axes seam", sphere("{ pole = [0.0, 1.0, 0.0], seam = [nan, 0.0, 0.0] }"), vec!["shape[0].uv_axes.seam[0]"]),
         ("uv_axes without a seam", sphere("{ pole = [0.0, 1.0, 0.0] }"), vec!["shape[0].uv_axes", "seam"]),
+        ("unknown face_uv", format!("{HEAD}[[shape]]\ntype = \"box\"\nsize = [1.0, 1.0, 1.0]\nface_uv = \"pbrt\"\n"), vec!["shape[0].face_uv", "pbrt"]),
+        ("face_uv on a sphere", sphere("{ pole = [0.0, 1.0, 0.0], seam = [1.0, 0.0, 0.0] }\nface_uv = \"mitsuba\""), vec!["shape[0].face_uv", "sphere"]),
         ("uv_axes on a quad", quad("uv_axes", "{ pole = [0.0, 1.0, 0.0], seam = [1.0, 0.0, 0.0] }"), vec!["shape[0].uv_axes", "quad"]),
         ("uv_axes on a moving sphere", format!("{HEAD}[[shape]]\ntype = \"sphere\"\nradius = 1.0\nuv_axes = {{ pole = [0.0, 1.0, 0.0], seam = [1.0, 0.0, 0.0] }}\ntransform = {{ keyframes = [{{ time = 0.0 }}, {{ time = 1.0, translate = [1.0, 0.0, 0.0] }}] }}\n"), vec!["shape[0].uv_axes", "moving"]),
         ("textured mirror", quad("material", "{ type = \"mirror\", reflectance = { type = \"image\", file = \"nope.png\" } }"), vec!["shape[0].material.reflectance.file"]),

@@ -834,6 +834,9 @@ pub struct ShapeDesc {
     /// A sphere's texture axes: `{ pole, seam }` (default +Y and +X).
     #[serde(default)]
     pub uv_axes: Option<UvAxesDesc>,
+    /// A box's face coordinates: `brume` (default) or `mitsuba` (its cube's).
+    #[serde(default)]
+    pub face_uv: Option<String>,
 }
 
 /// `uv_axes` of a sphere: where its latitude–longitude texture coordinates

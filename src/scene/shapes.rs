@@ -24,7 +24,7 @@ fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<
     let used: &[&str] = match shape.kind {
         ShapeType::Sphere => &["center", "radius", "uv_axes"],
         ShapeType::Quad => &["center", "normal", "size", "u_axis"],
-        ShapeType::Box => &["center", "size"],
+        ShapeType::Box => &["center", "size", "face_uv"],
         ShapeType::Disk => &["center", "normal", "radius", "u_axis"],
         ShapeType::Mesh => &["file"],
         ShapeType::Slab => &["file", "filter"],
@@ -38,6 +38,7 @@ fn reject_foreign_keys(shape: &ShapeDesc, field: &str, check: &Check) -> Result<
         ("file", shape.file.is_some()),
         ("filter", shape.filter.is_some()),
         ("uv_axes", shape.uv_axes.is_some()),
+        ("face_uv", shape.face_uv.is_some()),
     ];
     for (key, set) in present {
         if set && !used.contains(&key) {
@@ -260,6 +261,16 @@ fn box_faces(
 ) -> Result<Vec<Primitive>> {
     let s = sizes(shape, 3, field, check)?;
     let h = Vec3::new(s[0], s[1], s[2]) * 0.5;
+    match shape.face_uv.as_deref() {
+        None | Some("brume") => {}
+        Some("mitsuba") => return Ok(mitsuba_cube_faces(m, center, h)),
+        Some(other) => {
+            return Err(check.error(
+                &format!("{field}.face_uv"),
+                format!("unknown face layout `{other}`, expected \"brume\" or \"mitsuba\""),
+            ))
+        }
+    }
     let mut faces = Vec::with_capacity(6);
     for axis in 0..3 {
         for sign in [-1.0f32, 1.0] {
@@ -276,6 +287,31 @@ fn box_faces(
         }
     }
     Ok(faces)
+}
+
+/// The faces of Mitsuba 3's `cube` (its corners, face order and texture
+/// coordinates: each face's corners with uv (0, 1), (1, 1), (1, 0), (0, 0)
+/// in that order), as parallelograms from the corner at uv (0, 1): their
+/// (s, t) is Mitsuba's (u, 1 − v), their normal (first edge × second) faces out.
+fn mitsuba_cube_faces(m: &Affine3A, center: Vec3, h: Vec3) -> Vec<Primitive> {
+    // Per face, the corners at uv (0, 1), (1, 1) and (0, 0), as signs of the half sizes.
+    const FACES: [[[f32; 3]; 3]; 6] = [
+        [[1.0, -1.0, -1.0], [1.0, -1.0, 1.0], [-1.0, -1.0, -1.0]],
+        [[1.0, 1.0, -1.0], [-1.0, 1.0, -1.0], [1.0, 1.0, 1.0]],
+        [[1.0, -1.0, -1.0], [1.0, 1.0, -1.0], [1.0, -1.0, 1.0]],
+        [[1.0, -1.0, 1.0], [1.0, 1.0, 1.0], [-1.0, -1.0, 1.0]],
+        [[-1.0, -1.0, 1.0], [-1.0, 1.0, 1.0], [-1.0, -1.0, -1.0]],
+        [[1.0, 1.0, -1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0]],
+    ];
+    FACES
+        .iter()
+        .map(|[v0, v1, v3]| {
+            let corner = |s: &[f32; 3]| Vec3::from_array(*s) * h;
+            let (p0, p1, p3) = (corner(v0), corner(v1), corner(v3));
+            let (eu, ev) = (p1 - p0, p3 - p0);
+            parallelogram(m, center + p0 + 0.5 * (eu + ev), eu, ev)
+        })
+        .collect()
 }
 
 /// Largest OBJ file read (a few tens of millions of triangles).

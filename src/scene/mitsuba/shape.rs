@@ -109,6 +109,7 @@ fn geometry(ctx: &Ctx, p: &Props, kind: &str, flip: bool) -> Result<(ShapeDesc, 
             desc.kind = ShapeType::Box;
             desc.center = Some([0.0; 3]);
             desc.size = Some(vec![2.0; 3]);
+            desc.face_uv = Some("mitsuba".into());
             desc.transform = to_brume(&to_world, at)?;
             Some(box_bounds(&to_world, DVec3::ZERO, DVec3::ONE))
         }
@@ -179,9 +180,9 @@ fn uv_frame(p: &Props, kind: &str, flip: bool) -> Result<UvFrame> {
         // from u_axis toward normal × u_axis in brume, which flip_normals turns.
         "disk" if flip => UvFrame::Flipped,
         "disk" => UvFrame::Same,
-        _ => UvFrame::Refused(
-            "a texture on a cube (Mitsuba's cube mesh coordinates differ from brume's box faces)",
-        ),
+        // brume's box with face_uv = "mitsuba" runs (u, 1 − v) over each face of Mitsuba's cube.
+        "cube" => UvFrame::Flipped,
+        _ => UvFrame::Refused("a texture on this shape"),
     })
 }
 
@@ -216,6 +217,7 @@ fn blank(kind: ShapeType) -> ShapeDesc {
         interior: None,
         filter: None,
         uv_axes: None,
+        face_uv: None,
     }
 }
 

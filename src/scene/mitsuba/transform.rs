@@ -25,9 +25,10 @@ fn operation(op: &Node) -> Result<DMat4> {
         "rotate" => {
             let axis = DVec3::from_array(triple(op, 0.0)?);
             let angle = number(op, op.required("angle")?)?;
-            let axis = axis
-                .try_normalize()
-                .ok_or_else(|| op.error("the rotation axis is zero"))?;
+            if axis == DVec3::ZERO {
+                return Err(op.error("the rotation axis is zero"));
+            }
+            // As written: Mitsuba does not normalize it (a longer axis also scales and shears).
             DMat4::from_mat3(rotation(axis, angle))
         }
         "matrix" => {
