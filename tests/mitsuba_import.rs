@@ -627,3 +627,56 @@ fn the_films_filter_becomes_the_cameras_pixel_filter() {
         gaussian(Some(0.25))
     );
 }
+
+/// A named conductor takes the η and k Mitsuba's RGB variants use for it
+/// (gold and a-C, as its scalar_rgb variant printed them); an unknown name
+/// and a name beside eta are refused at their element.
+#[test]
+fn named_conductors_take_mitsubas_rgb_index() {
+    let index = |name: &str| {
+        let desc = load(
+            &format!(
+                r#"<shape type="sphere"><bsdf type="roughconductor"><string name="material" value="{name}"/></bsdf></shape>"#
+            ),
+            &[],
+        );
+        match &desc.shapes[0].material {
+            Some(MaterialDesc::Conductor {
+                eta: Some(eta),
+                k: Some(k),
+                f0: None,
+                ..
+            }) => (eta.0, k.0),
+            other => panic!("{other:?}"),
+        }
+    };
+    let close = |a: [f32; 3], b: [f32; 3]| a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-5);
+    let (eta, k) = index("Au");
+    assert!(
+        close(eta, [0.14303598, 0.37530708, 1.4420453])
+            && close(k, [3.982997, 2.3855565, 1.6033592]),
+        "Au: {eta:?} {k:?}"
+    );
+    let (eta, k) = index("a-C");
+    assert!(
+        close(eta, [2.9440458, 2.2271364, 1.9681617]) && close(k, [0.8874649, 0.7992985, 0.81529]),
+        "a-C: {eta:?} {k:?}"
+    );
+    for (body, words) in [
+        (
+            r#"<bsdf type="conductor"><string name="material" value="Unobtainium"/></bsdf>"#,
+            "unknown conductor material `Unobtainium`",
+        ),
+        (
+            r#"<bsdf type="conductor"><string name="material" value="Au"/><rgb name="eta" value="1"/></bsdf>"#,
+            "not both",
+        ),
+    ] {
+        let (_dir, path) = write(&[(
+            "scene.xml",
+            &scene(&format!("<shape type=\"sphere\">{body}</shape>")),
+        )]);
+        let e = import(&path, vec![]).err().expect("refused").to_string();
+        assert!(e.contains(words) && !e.contains('\n'), "{e}");
+    }
+}

@@ -253,7 +253,8 @@ const MITSUBA_MULTISCATTER: bool = false;
 /// Mitsuba's microfacet models mask and shadow separably, G1(wi) · G1(wo).
 const MITSUBA_MASKING: MaskingDesc = MaskingDesc::Separable;
 
-/// `conductor` / `roughconductor`: material "none" (a perfect reflector) or `eta`/`k` as RGB.
+/// `conductor` / `roughconductor`: a named material (Mitsuba's RGB η and k
+/// for it), "none" (a perfect reflector) or `eta`/`k` as RGB.
 fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
     let named = p.string("material")?;
     let eta = p.color("eta")?;
@@ -278,11 +279,21 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
         ));
     }
     match (named, eta.is_some() || k.is_some()) {
-        (Some((name, at)), _) if name != "none" => Err(unsupported(
-            at,
-            "Mitsuba's measured conductor spectra: give eta and k as <rgb>",
-        )),
         (Some(_), true) => Err(p.owner.error("give either material or eta and k, not both")),
+        (Some((name, at)), false) if name != "none" => {
+            let (eta, k) = super::conductors::named(name).ok_or_else(|| {
+                at.error(format!("unknown conductor material `{name}` (Mitsuba's names, e.g. Au, Ag, Cu, Al, Cr)"))
+            })?;
+            Ok(MaterialDesc::Conductor {
+                alpha,
+                distribution,
+                eta: Some(Color(eta)),
+                k: Some(Color(k)),
+                f0: None,
+                multiscatter: MITSUBA_MULTISCATTER,
+                masking: MITSUBA_MASKING,
+            })
+        }
         // "none" (the default without eta/k): reflects everything at every angle.
         (_, false) => Ok(MaterialDesc::Conductor {
             alpha,

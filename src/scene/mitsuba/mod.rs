@@ -5,6 +5,7 @@
 //! approximated silently. The supported subset is the table in README.md.
 
 mod bsdf;
+mod conductors;
 mod emitter;
 mod mechanics;
 mod medium;
