@@ -70,6 +70,19 @@ fn setup(dir: &Path) {
     .unwrap();
     std::fs::write(dir.join("corrupt.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap();
     std::fs::write(dir.join("picture.jpg"), b"JFIF").unwrap();
+    std::fs::write(dir.join("picture.tif"), b"II*\0").unwrap();
+    let jpeg =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba/ramp4x4.jpg"))
+            .unwrap();
+    std::fs::write(dir.join("truncated.jpg"), &jpeg[..jpeg.len() / 2]).unwrap();
+    // The same file declaring 60000 x 60000 pixels in its frame header (SOF0).
+    let mut bomb = jpeg.clone();
+    let sof = bomb
+        .windows(2)
+        .position(|w| w == [0xff, 0xc0])
+        .expect("a baseline JPEG");
+    bomb[sof + 5..sof + 9].copy_from_slice(&[0xea, 0x60, 0xea, 0x60]);
+    std::fs::write(dir.join("bomb.jpg"), bomb).unwrap();
     write_rgba_png(&dir.join("opaque.png"), [255, 255]);
     write_rgba_png(&dir.join("cutout.png"), [255, 0]);
     write_exr(
@@ -92,7 +105,10 @@ fn cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
         ("missing file", albedo("{ type = \"image\", file = \"nope.png\" }"), vec!["shape[0].material.albedo.file", "nope.png"]),
         ("no file key", albedo("{ type = \"image\" }"), vec!["shape[0].material.albedo.file", "missing"]),
         ("corrupt png", quad("emission", "{ type = \"image\", file = \"corrupt.png\" }"), vec!["shape[0].emission.file", "corrupt.png"]),
-        ("not png or exr", albedo("{ type = \"image\", file = \"picture.jpg\" }"), vec!["shape[0].material.albedo.file", "picture.jpg"]),
+        ("not a jpeg", albedo("{ type = \"image\", file = \"picture.jpg\" }"), vec!["shape[0].material.albedo.file", "picture.jpg", "not a JPEG image"]),
+        ("not png, jpeg, exr or hdr", albedo("{ type = \"image\", file = \"picture.tif\" }"), vec!["shape[0].material.albedo.file", "picture.tif", ".png, .jpg"]),
+        ("truncated jpeg", albedo("{ type = \"image\", file = \"truncated.jpg\" }"), vec!["shape[0].material.albedo.file", "truncated.jpg"]),
+        ("jpeg declaring 60000x60000", albedo("{ type = \"image\", file = \"bomb.jpg\" }"), vec!["shape[0].material.albedo.file", "bomb.jpg", "60000x60000", "at least"]),
         ("a folder", albedo("{ type = \"image\", file = \".\" }"), vec!["shape[0].material.albedo.file"]),
         ("unknown texture type", albedo("{ type = \"noise\" }"), vec!["shape[0].material.albedo.type", "noise"]),
         ("missing type", albedo("{ file = \"good.png\" }"), vec!["shape[0].material.albedo", "type"]),
@@ -103,7 +119,7 @@ fn cases() -> Vec<(&'static str, String, Vec<&'static str>)> {
         ("filter on a checkerboard", albedo("{ type = \"checkerboard\", a = 0.1, b = 0.9, filter = \"nearest\" }"), vec!["shape[0].material.albedo.filter", "checkerboard"]),
         ("nan uv_offset", albedo(&img(", uv_offset = [0.5, nan]")), vec!["shape[0].material.albedo.uv_offset[1]"]),
         ("bad colour space", albedo(&img(", color_space = \"aces\"")), vec!["shape[0].material.albedo.color_space", "aces"]),
-        ("srgb exr", quad("emission", "{ type = \"image\", file = \"bright.exr\", color_space = \"srgb\" }"), vec!["shape[0].emission.color_space"]),
+        ("srgb exr", quad("emission", "{ type = \"image\", file = \"bright.exr\", color_space = \"srgb\" }"), vec!["shape[0].emission.color_space", "PNG and JPEG only"]),
         ("a string", albedo("\"good.png\""), vec!["shape[0].material.albedo", "texture table"]),
         ("negative checker colour", quad("emission", "{ type = \"checkerboard\", a = -1.0, b = 1.0 }"), vec!["shape[0].emission.a", "negative"]),
         ("nan checker channel", quad("emission", "{ type = \"checkerboard\", a = [1.0, nan, 1.0], b = 1.0 }"), vec!["shape[0].emission.a[1]"]),

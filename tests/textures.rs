@@ -444,3 +444,22 @@ fn mirrored_and_nearest_lookups_match_mitsubas_bitmap() {
         }
     }
 }
+
+/// tests/data/mitsuba/ramp4x4.jpg is ramp4x4.png saved as a JPEG (quality
+/// 100, no chroma subsampling, by Pillow): decoded, its samples are the
+/// PNG's within JPEG's rounding (3/255), row 0 at the top.
+#[test]
+fn a_jpeg_decodes_to_its_pixels() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mitsuba/ramp4x4.jpg");
+    let (w, h, pixels) = brume::film::image_io::read_jpeg(&path).unwrap();
+    assert_eq!((w, h), (4, 4));
+    for (i, (got, want)) in pixels.iter().zip(RAMP).enumerate() {
+        for c in 0..3 {
+            assert!(
+                (got[c] * 255.0 - want[c] as f32).abs() <= 3.0,
+                "pixel {i}: {got:?} vs {want:?}"
+            );
+        }
+    }
+}

@@ -39,7 +39,9 @@ fn set_pending(tmp: &Path, pending: bool) {
 
 mod film_exr;
 mod hdr;
+mod jpeg;
 pub use hdr::{read_hdr, rgbe_to_rgb};
+pub use jpeg::read_jpeg;
 mod header;
 mod png_write;
 pub use film_exr::{read_film_exr, write_film_exr, write_film_exr_beauty, write_film_exr_with};

@@ -17,6 +17,8 @@ pub(super) enum Format {
     Png,
     /// Radiance RGBE image (`.hdr`).
     Hdr,
+    /// JPEG image.
+    Jpeg,
     /// OpenVDB volume.
     Vdb,
     /// Wavefront OBJ mesh (text).
@@ -29,6 +31,8 @@ const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 const PNG_MAGIC: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
 /// The two signatures Radiance writers start a file with.
 const HDR_MAGICS: [&[u8]; 2] = [b"#?RADIANCE", b"#?RGBE"];
+/// A JPEG's start-of-image marker and the first marker after it.
+const JPEG_MAGIC: [u8; 3] = [0xff, 0xd8, 0xff];
 /// The OpenVDB magic number 0x56444220, little-endian.
 const VDB_MAGIC: [u8; 4] = [0x20, 0x42, 0x44, 0x56];
 
@@ -38,6 +42,7 @@ impl Format {
             Format::Exr => "an EXR image",
             Format::Png => "a PNG image",
             Format::Hdr => "a Radiance HDR image",
+            Format::Jpeg => "a JPEG image",
             Format::Vdb => "an OpenVDB file",
             Format::Obj => "a Wavefront OBJ file (text)",
             Format::Ply => "a PLY mesh (starting with `ply`)",
@@ -54,6 +59,8 @@ impl Format {
             Some(Format::Vdb)
         } else if HDR_MAGICS.iter().any(|m| head.starts_with(m)) {
             Some(Format::Hdr)
+        } else if head.starts_with(&JPEG_MAGIC) {
+            Some(Format::Jpeg)
         } else {
             None
         }

@@ -178,7 +178,12 @@ fn image(
         ));
     }
     let format = image_format(check, &file_field, &path)?;
-    let srgb = is_srgb(check, field, desc, format != Format::Png)?;
+    let srgb = is_srgb(
+        check,
+        field,
+        desc,
+        !matches!(format, Format::Png | Format::Jpeg),
+    )?;
     let key = (path.clone(), wrap, srgb);
     if let Some((_, image)) = cache.images.iter().find(|(k, _)| *k == key) {
         return Ok(image.clone());
@@ -201,6 +206,9 @@ fn image(
         Format::Exr => read_exr_texels(&path).map_err(read_error)?,
         Format::Hdr => crate::film::image_io::read_hdr(&path)
             .map_err(|e| read_error(super::files::input_message(e)))?,
+        Format::Jpeg => {
+            read_jpeg_texels(&path, srgb).map_err(|e| read_error(super::files::input_message(e)))?
+        }
         _ => read_png_texels(&path, srgb).map_err(read_error)?,
     };
     check_finite_texels(check, &file_field, &path, width, &texels)?;
@@ -241,10 +249,11 @@ fn image_format(check: &Check, file_field: &str, path: &Path) -> Result<Format> 
         "exr" => Ok(Format::Exr),
         "png" => Ok(Format::Png),
         "hdr" | "pic" => Ok(Format::Hdr),
+        "jpg" | "jpeg" => Ok(Format::Jpeg),
         _ => Err(check.error(
             file_field,
             format!(
-                "texture {} is not a .png, .exr or .hdr file",
+                "texture {} is not a .png, .jpg, .exr or .hdr file",
                 path.display()
             ),
         )),
@@ -284,7 +293,7 @@ fn is_srgb(check: &Check, field: &str, desc: &TextureDesc, linear: bool) -> Resu
         (Some("srgb"), false) => Ok(true),
         (Some("srgb"), true) => Err(check.error(
             &format!("{field}.color_space"),
-            "EXR and Radiance HDR files hold linear values; color_space = \"srgb\" applies to PNG only",
+            "EXR and Radiance HDR files hold linear values; color_space = \"srgb\" applies to PNG and JPEG only",
         )),
         (Some(other), _) => Err(check.error(
             &format!("{field}.color_space"),
@@ -316,6 +325,17 @@ pub(super) fn check_finite_texels(
         )),
         None => Ok(()),
     }
+}
+
+/// Linear texels of a JPEG (8-bit, decoded to RGB).
+fn read_jpeg_texels(path: &Path, srgb: bool) -> Result<(usize, usize, Vec<Rgb>)> {
+    let (width, height, pixels) = crate::film::image_io::read_jpeg(path)?;
+    let decode = |v: f32| if srgb { srgb_to_linear(v) } else { v };
+    let texels = pixels
+        .iter()
+        .map(|p| Rgb::new(decode(p[0]), decode(p[1]), decode(p[2])))
+        .collect();
+    Ok((width, height, texels))
 }
 
 /// Linear texels of a PNG: grey or RGB, an alpha channel only if opaque everywhere.
