@@ -37,15 +37,11 @@ pub(super) fn build_shapes(
 ) -> Result<Shapes> {
     let mut surfaces = Surfaces::default();
     let mut moving = Vec::new();
-    let mut shape_materials = Vec::with_capacity(desc.shapes.len());
-    let mut shape_textures = Vec::with_capacity(desc.shapes.len());
-    let mut emissions = Vec::with_capacity(desc.shapes.len());
+    let mut carried = Carried::default();
     let mut images = textures::ImageCache::default();
     let mut interiors = Vec::new();
     let mut slabs = Vec::new();
-    let mut sphere_axes = Vec::with_capacity(desc.shapes.len());
     for (i, shape) in desc.shapes.iter().enumerate() {
-        sphere_axes.push(None);
         let field = format!("shape[{i}]");
         if shape.kind == description::ShapeType::Slab {
             slabs.push(super::slab_keys::build_slab_shape(
@@ -55,46 +51,77 @@ pub(super) fn build_shapes(
                 (base, cache),
             )?);
             // Indexed like the shapes; a slab has no surface to use them.
-            let (material, texture) = build_material(None, &field, check, base, &mut images)?;
-            shape_materials.push(material);
-            shape_textures.push(texture);
-            emissions.push(None);
+            let material = build_material(None, &field, check, base, &mut images)?;
+            carried.push(material, None, None);
             continue;
         }
         let mut built = shapes::build_shape(shape, &field, check, base)?;
         require_uv(shape, &field, built.texcoords.is_some(), check, base)?;
         let keys = check_moving_shape(shape, built.keys.take(), &field, check)?;
-        if keys.is_some() && built.uv_axes.is_some() {
-            return Err(check.error(
-                &format!("{field}.uv_axes"),
-                "not supported on a moving sphere (its texture axes would stay fixed in the world)",
-            ));
-        }
-        sphere_axes[i] = built.uv_axes;
+        let axes = still_sphere_axes(&built, keys.is_some(), &field, check)?;
         let surface = add_interior(shape, &built, &field, (check, base, timing), &mut interiors)?;
         match keys {
             Some(keys) => moving.push(MovingShape::new(i as u32, built.primitives, keys)),
             None if surface => surfaces.add(built, i as u32),
             None => {}
         }
-        let (material, texture) =
-            build_material(shape.material.as_ref(), &field, check, base, &mut images)?;
-        super::materials::path_tracer_only(&material, &desc.integrator.kind, &field, check)?;
-        shape_materials.push(material);
-        shape_textures.push(texture);
-        emissions.push(build_emission(shape, &field, check, base, &mut images)?);
+        let material = build_material(shape.material.as_ref(), &field, check, base, &mut images)?;
+        super::materials::path_tracer_only(&material.0, &desc.integrator.kind, &field, check)?;
+        let emission = build_emission(shape, &field, check, base, &mut images)?;
+        carried.push(material, emission, axes);
     }
     Ok(Shapes {
         geometry: surfaces
             .into_geometry()
             .with_moving(moving)
             .with_slabs(slabs)
-            .with_sphere_axes(sphere_axes),
-        materials: shape_materials,
-        textures: shape_textures,
-        emissions,
+            .with_sphere_axes(carried.sphere_axes),
+        materials: carried.materials,
+        textures: carried.textures,
+        emissions: carried.emissions,
         interiors,
     })
+}
+
+/// What each shape carries besides its primitives, indexed like the shapes.
+#[derive(Default)]
+struct Carried {
+    materials: Vec<Material>,
+    textures: Vec<Option<Texture>>,
+    emissions: Vec<Option<Texture>>,
+    sphere_axes: Vec<Option<[crate::math::Vec3; 3]>>,
+}
+
+impl Carried {
+    /// The next shape's material with its texture, emission and sphere axes.
+    fn push(
+        &mut self,
+        (material, texture): (Material, Option<Texture>),
+        emission: Option<Texture>,
+        sphere_axes: Option<[crate::math::Vec3; 3]>,
+    ) {
+        self.materials.push(material);
+        self.textures.push(texture);
+        self.emissions.push(emission);
+        self.sphere_axes.push(sphere_axes);
+    }
+}
+
+/// A sphere's texture axes, refused on a moving sphere (they would stay
+/// fixed in the world while it turns).
+fn still_sphere_axes(
+    built: &shapes::BuiltShape,
+    moving: bool,
+    field: &str,
+    check: &Check,
+) -> Result<Option<[crate::math::Vec3; 3]>> {
+    if moving && built.uv_axes.is_some() {
+        return Err(check.error(
+            &format!("{field}.uv_axes"),
+            "not supported on a moving sphere (its texture axes would stay fixed in the world)",
+        ));
+    }
+    Ok(built.uv_axes)
 }
 
 /// The primitives of the static surfaces, each with its shape index and

@@ -190,29 +190,35 @@ pub(super) fn material(
             conductor(check, field, rough, *eta, *k, f0)?
         }
         MaterialDesc::ThinDielectric { ior } => thin_dielectric(check, field, *ior)?,
-        MaterialDesc::Plastic {
-            diffuse,
-            specular,
-            ior,
-            nonlinear,
-            alpha,
-            distribution,
-            masking,
-            transmittance,
-        } => {
-            // Mitsuba's roughplastic is single scattering only; there is no compensation key.
-            let rough = Rough::of(*alpha, *distribution, false, *masking);
-            let (specular, ior, nonlinear) = (*specular, *ior, *nonlinear);
-            let coating = Coating {
-                specular,
-                ior,
-                nonlinear,
-                rough,
-                transmittance: *transmittance,
-            };
-            plastic(check, field, color("diffuse", diffuse)?, coating)?
+        MaterialDesc::Plastic { diffuse, .. } => {
+            plastic(check, field, color("diffuse", diffuse)?, coating_of(desc))?
         }
     })
+}
+
+/// The coating keys of a `plastic` description as written.
+fn coating_of(desc: &MaterialDesc) -> Coating {
+    let MaterialDesc::Plastic {
+        specular,
+        ior,
+        nonlinear,
+        alpha,
+        distribution,
+        masking,
+        transmittance,
+        ..
+    } = *desc
+    else {
+        unreachable!("coating_of is asked of plastics only")
+    };
+    Coating {
+        specular,
+        ior,
+        nonlinear,
+        // Mitsuba's roughplastic is single scattering only; there is no compensation key.
+        rough: Rough::of(alpha, distribution, false, masking),
+        transmittance,
+    }
 }
 
 /// `{ type = "thin_dielectric", ior }`.

@@ -44,33 +44,9 @@ pub(super) fn build(
         ColorOrTexture::Texture(t) => t,
     };
     let f = |key: &str| format!("{field}.{key}");
-    let used: &[&str] = match desc.kind.as_str() {
-        "image" => &[
-            "file",
-            "wrap",
-            "filter",
-            "color_space",
-            "scale",
-            "uv_scale",
-            "uv_offset",
-        ],
-        "checkerboard" => &["a", "b", "uv_scale", "uv_offset"],
-        other => {
-            return Err(check.error(
-                &f("type"),
-                format!("unknown texture type `{other}`, expected \"image\" or \"checkerboard\""),
-            ))
-        }
-    };
-    reject_foreign_keys(check, field, desc, used)?;
+    reject_foreign_keys(check, field, desc, keys_of(check, field, desc)?)?;
     let uv_scale = uv_scale(check, &f("uv_scale"), desc.uv_scale)?;
-    let uv_offset = match desc.uv_offset {
-        Some([du, dv]) => Vec2::new(
-            check.finite(&format!("{}[0]", f("uv_offset")), du)?,
-            check.finite(&format!("{}[1]", f("uv_offset")), dv)?,
-        ),
-        None => Vec2::ZERO,
-    };
+    let uv_offset = uv_offset(check, &f("uv_offset"), desc.uv_offset)?;
     if desc.kind == "checkerboard" {
         let get = |key: &str, c: Option<Color>| {
             c.ok_or_else(|| check.error(&f(key), "missing"))
@@ -99,6 +75,37 @@ pub(super) fn build(
         uv_offset,
         filter: filter(check, field, desc)?,
     })
+}
+
+/// The keys a texture of `desc.kind` reads (an unknown kind is refused).
+fn keys_of(check: &Check, field: &str, desc: &TextureDesc) -> Result<&'static [&'static str]> {
+    match desc.kind.as_str() {
+        "image" => Ok(&[
+            "file",
+            "wrap",
+            "filter",
+            "color_space",
+            "scale",
+            "uv_scale",
+            "uv_offset",
+        ]),
+        "checkerboard" => Ok(&["a", "b", "uv_scale", "uv_offset"]),
+        other => Err(check.error(
+            &format!("{field}.type"),
+            format!("unknown texture type `{other}`, expected \"image\" or \"checkerboard\""),
+        )),
+    }
+}
+
+/// `uv_offset`: two finite numbers (zero when absent).
+fn uv_offset(check: &Check, field: &str, offset: Option<[f32; 2]>) -> Result<Vec2> {
+    match offset {
+        Some([du, dv]) => Ok(Vec2::new(
+            check.finite(&format!("{field}[0]"), du)?,
+            check.finite(&format!("{field}[1]"), dv)?,
+        )),
+        None => Ok(Vec2::ZERO),
+    }
 }
 
 /// A constant colour in `range`.
@@ -202,15 +209,7 @@ fn image(
         format,
         MAX_TEXTURE_BYTES,
     )?;
-    let (width, height, texels) = match format {
-        Format::Exr => read_exr_texels(&path).map_err(read_error)?,
-        Format::Hdr => crate::film::image_io::read_hdr(&path)
-            .map_err(|e| read_error(super::files::input_message(e)))?,
-        Format::Jpeg => {
-            read_jpeg_texels(&path, srgb).map_err(|e| read_error(super::files::input_message(e)))?
-        }
-        _ => read_png_texels(&path, srgb).map_err(read_error)?,
-    };
+    let (width, height, texels) = read_texels(format, &path, srgb).map_err(read_error)?;
     check_finite_texels(check, &file_field, &path, width, &texels)?;
     let image = Arc::new(
         Image::new(width, height, texels, wrap)
@@ -324,6 +323,21 @@ pub(super) fn check_finite_texels(
             ),
         )),
         None => Ok(()),
+    }
+}
+
+/// The linear texels of the image at `path`, by its format.
+fn read_texels(
+    format: Format,
+    path: &Path,
+    srgb: bool,
+) -> std::result::Result<(usize, usize, Vec<Rgb>), String> {
+    let message = super::files::input_message;
+    match format {
+        Format::Exr => read_exr_texels(path),
+        Format::Hdr => crate::film::image_io::read_hdr(path).map_err(message),
+        Format::Jpeg => read_jpeg_texels(path, srgb).map_err(message),
+        _ => read_png_texels(path, srgb),
     }
 }
 

@@ -87,16 +87,7 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
         camera.aperture_radius = Some(need("aperture_radius")?);
         camera.focus_distance = Some(need("focus_distance")?);
     }
-    for (key, default) in [("near_clip", 0.01), ("far_clip", 10000.0)] {
-        if let Some(v) = p.float(key)? {
-            if v != default {
-                ctx.warn(
-                    node,
-                    format!("{key} = {v}: brume does not clip camera rays"),
-                );
-            }
-        }
-    }
+    warn_clipping(ctx, &p, node)?;
     let medium = p.object("medium", None);
     p.finish()?;
     Ok(Sensor {
@@ -107,6 +98,21 @@ pub(crate) fn read<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<Sensor<'a>> {
         seed,
         sampler,
     })
+}
+
+/// Clipping planes other than Mitsuba's defaults warn: brume does not clip camera rays.
+fn warn_clipping(ctx: &Ctx, p: &Props, node: &Node) -> Result<()> {
+    for (key, default) in [("near_clip", 0.01), ("far_clip", 10000.0)] {
+        if let Some(v) = p.float(key)? {
+            if v != default {
+                ctx.warn(
+                    node,
+                    format!("{key} = {v}: brume does not clip camera rays"),
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Position, target and up of a rigid `to_world` (Mitsuba looks along local +Z).
@@ -293,21 +299,7 @@ pub(crate) fn integrator<'a>(
         return Ok((desc, None)); // Mitsuba's default: path, unlimited depth
     };
     while matches!(node.required("type")?, "moment" | "aov") {
-        let p = ctx.props(node)?;
-        p.string("aovs")?;
-        let inner = p.objects("integrator");
-        p.finish()?;
-        if inner.is_empty() {
-            return Err(node.error("holds no <integrator> to render with"));
-        }
-        if inner.len() > 1 {
-            return Err(unsupported(node, "several nested integrators"));
-        }
-        ctx.warn(
-            node,
-            "a wrapper's extra outputs are not written: brume renders the nested integrator",
-        );
-        node = inner[0].node;
+        node = unwrapped(ctx, node)?;
     }
     if node.required("type")? == "direct" {
         return Ok((direct(ctx, node, desc)?, Some(node)));
@@ -341,6 +333,25 @@ pub(crate) fn integrator<'a>(
     }
     p.finish()?;
     Ok((desc, None))
+}
+
+/// The integrator a `moment` or `aov` wrapper holds (its extra outputs are not written).
+fn unwrapped<'a>(ctx: &Ctx<'a>, node: &'a Node) -> Result<&'a Node> {
+    let p = ctx.props(node)?;
+    p.string("aovs")?;
+    let inner = p.objects("integrator");
+    p.finish()?;
+    if inner.is_empty() {
+        return Err(node.error("holds no <integrator> to render with"));
+    }
+    if inner.len() > 1 {
+        return Err(unsupported(node, "several nested integrators"));
+    }
+    ctx.warn(
+        node,
+        "a wrapper's extra outputs are not written: brume renders the nested integrator",
+    );
+    Ok(inner[0].node)
 }
 
 /// `<integrator type="direct">`: emitters seen directly and light reflected
