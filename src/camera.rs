@@ -141,11 +141,6 @@ impl Camera {
         self
     }
 
-    /// True when the pixels weigh the film by more than their own square.
-    pub fn has_wide_filter(&self) -> bool {
-        !matches!(self.filter, PixelFilter::Box)
-    }
-
     /// The film point of pixel `(x, y)` for `u` ∈ [0,1)², as an offset
     /// from the pixel's corner (the pixel filter's sample).
     #[inline]

@@ -419,17 +419,11 @@ fn thin_sheet(
 ) -> Step {
     let wo = -path.ray.direction;
     let shading = Shading::facing(hit.shading_normal, wo);
-    let cos_o = shading.n.dot(wo);
-    let reflectance = crate::material::layered::thin_reflectance(cos_o, ior);
-    let reflects = sampler.next_1d() < reflectance;
+    let (wi, reflectance, reflects) =
+        crate::material::layered::thin_lobe(ior, &shading, wo, sampler.next_1d());
     if reflects && path.emission_only {
         return Step::Stop;
     }
-    let wi = if reflects {
-        2.0 * cos_o * shading.n - wo
-    } else {
-        -wo
-    };
     if let Some(interfaces) = &scene.interfaces {
         path.medium = interfaces.after(hit.shape, hit.geometric_normal, wi, path.medium);
     }

@@ -208,24 +208,27 @@ pub fn thin_reflectance(cos_o: f32, ior: f32) -> f32 {
     2.0 * r / (1.0 + r)
 }
 
-/// Samples a thin sheet: mirror reflection with probability R', else
-/// straight through; each lobe's weight is its value over its probability (1).
-pub fn sample_thin(ior: f32, sp: &Shading, wo: Vec3, u_lobe: f32) -> BsdfSample {
+/// A thin sheet's lobe drawn by `u_lobe`: mirror reflection with
+/// probability R', else straight through. Returns the direction, the
+/// lobe's probability, and whether it reflects.
+pub fn thin_lobe(ior: f32, sp: &Shading, wo: Vec3, u_lobe: f32) -> (Vec3, f32, bool) {
     let cos_o = sp.n.dot(wo);
     let r = thin_reflectance(cos_o, ior);
     if u_lobe < r {
-        BsdfSample {
-            wi: 2.0 * cos_o * sp.n - wo,
-            weight: Rgb::WHITE,
-            pdf: r,
-            is_delta: true,
-        }
+        (2.0 * cos_o * sp.n - wo, r, true)
     } else {
-        BsdfSample {
-            wi: -wo,
-            weight: Rgb::WHITE,
-            pdf: 1.0 - r,
-            is_delta: true,
-        }
+        (-wo, 1.0 - r, false)
+    }
+}
+
+/// Samples a thin sheet ([`thin_lobe`]); each lobe's weight is its value
+/// over its probability (1).
+pub fn sample_thin(ior: f32, sp: &Shading, wo: Vec3, u_lobe: f32) -> BsdfSample {
+    let (wi, pdf, _) = thin_lobe(ior, sp, wo, u_lobe);
+    BsdfSample {
+        wi,
+        weight: Rgb::WHITE,
+        pdf,
+        is_delta: true,
     }
 }

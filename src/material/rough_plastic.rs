@@ -117,10 +117,10 @@ impl CoatingTables {
             let (entering, reflected) = match distribution {
                 // The tables take one direction's masking at a time: the masking form is moot.
                 Distribution::Ggx | Distribution::GgxSeparable => {
-                    coating_albedos(Ggx { alpha }, alpha, wi, eta)
+                    coating_albedos(Ggx { alpha }, wi, eta)
                 }
                 Distribution::Beckmann | Distribution::BeckmannSeparable => {
-                    coating_albedos(Beckmann { alpha }, alpha, wi, eta)
+                    coating_albedos(Beckmann { alpha }, wi, eta)
                 }
             };
             *t = entering as f32;
@@ -137,20 +137,15 @@ impl CoatingTables {
 /// relative index `eta` unmasked, and the fraction reflected unmasked when it
 /// arrives from inside (relative index 1/η, total internal reflection
 /// included); both averages over the normals visible from `wi`.
-fn coating_albedos<M: Microfacet + SlopeDensity>(
-    mf: M,
-    alpha: f32,
-    wi: Vec3,
-    eta: f32,
-) -> (f64, f64) {
-    let transmitted = visible_average(mf, alpha, wi, |m| {
+fn coating_albedos<M: Microfacet + SlopeDensity>(mf: M, wi: Vec3, eta: f32) -> (f64, f64) {
+    let transmitted = visible_average(mf, wi, |m| {
         let cos = wi.dot(m);
         match fresnel::refract(wi, m, eta) {
             Some(wt) if wt.z < 0.0 => ((1.0 - fresnel::dielectric(cos, eta)) * mf.g1(wt)) as f64,
             _ => 0.0,
         }
     });
-    let reflected = visible_average(mf, alpha, wi, |m| {
+    let reflected = visible_average(mf, wi, |m| {
         let cos = wi.dot(m);
         let wr = 2.0 * cos * m - wi;
         if wr.z <= 0.0 {
@@ -161,19 +156,27 @@ fn coating_albedos<M: Microfacet + SlopeDensity>(
     (transmitted, reflected)
 }
 
-/// The slope density of a distribution of α = 1 as a function of t = |s|²
-/// (slopes s in units of α): P22(s) α² = slope_density(|s/α|²).
+/// A distribution's slopes: its width α, and the slope density of the
+/// distribution of α = 1 as a function of t = |s|² (slopes s in units of
+/// α): P22(s) α² = slope_density(|s/α|²).
 trait SlopeDensity {
+    fn alpha(&self) -> f32;
     fn slope_density(t: f64) -> f64;
 }
 
 impl SlopeDensity for Ggx {
+    fn alpha(&self) -> f32 {
+        self.alpha
+    }
     fn slope_density(t: f64) -> f64 {
         1.0 / (std::f64::consts::PI * (1.0 + t) * (1.0 + t))
     }
 }
 
 impl SlopeDensity for Beckmann {
+    fn alpha(&self) -> f32 {
+        self.alpha
+    }
     fn slope_density(t: f64) -> f64 {
         (-t).exp() / std::f64::consts::PI
     }
@@ -186,14 +189,9 @@ impl SlopeDensity for Beckmann {
 /// integrand has no kink inside it. Slopes α tan a, α tan b over
 /// a ∈ (−π/2, atan(cot θi / α)), b ∈ (0, π/2) (g must be even in m.y),
 /// composite Gauss–Legendre in a and b.
-fn visible_average<M: Microfacet + SlopeDensity>(
-    mf: M,
-    alpha: f32,
-    wi: Vec3,
-    g: impl Fn(Vec3) -> f64,
-) -> f64 {
+fn visible_average<M: Microfacet + SlopeDensity>(mf: M, wi: Vec3, g: impl Fn(Vec3) -> f64) -> f64 {
     use std::f64::consts::FRAC_PI_2;
-    let (sin_i, cos_i, alpha) = (wi.x as f64, wi.z as f64, alpha as f64);
+    let (sin_i, cos_i, alpha) = (wi.x as f64, wi.z as f64, mf.alpha() as f64);
     let a_max = if sin_i > 0.0 {
         (cos_i / (sin_i * alpha)).atan()
     } else {

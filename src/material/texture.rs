@@ -114,14 +114,9 @@ impl Image {
         if !(x.is_finite() && y.is_finite()) {
             return Rgb::BLACK;
         }
-        let limit = 1 << 24;
-        let (i, j) = (
-            (x as i64).clamp(-limit, limit),
-            (y as i64).clamp(-limit, limit),
-        );
         self.texel(
-            self.wrap_index(i, self.width),
-            self.wrap_index(j, self.height),
+            self.wrap_index(texel_index(x), self.width),
+            self.wrap_index(texel_index(y), self.height),
         )
     }
 
@@ -136,13 +131,7 @@ impl Image {
         }
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
-        // Clamping far-away coordinates keeps the i64 conversion exact; the
-        // wrap modes give the same texel for them as for the exact value.
-        let limit = 1 << 24;
-        let (x0, y0) = (
-            (x0 as i64).clamp(-limit, limit),
-            (y0 as i64).clamp(-limit, limit),
-        );
+        let (x0, y0) = (texel_index(x0), texel_index(y0));
         let (i0, i1) = (
             self.wrap_index(x0, self.width),
             self.wrap_index(x0 + 1, self.width),
@@ -155,6 +144,15 @@ impl Image {
         let bottom = self.texel(i0, j1) * (1.0 - fx) + self.texel(i1, j1) * fx;
         top * (1.0 - fy) + bottom * fy
     }
+}
+
+/// The texel index of a floored, finite texel coordinate. Clamping
+/// far-away coordinates keeps the i64 conversion exact; the wrap modes
+/// give the same texel for them as for the exact value.
+#[inline]
+fn texel_index(floor: f32) -> i64 {
+    const FAR: i64 = 1 << 24;
+    (floor as i64).clamp(-FAR, FAR)
 }
 
 /// A colour parameter: constant, an image or a procedural pattern.

@@ -278,42 +278,34 @@ fn conductor(p: &Props, rough: bool) -> Result<MaterialDesc> {
             "a tinted conductor (specular_reflectance other than 1)",
         ));
     }
-    match (named, eta.is_some() || k.is_some()) {
-        (Some(_), true) => Err(p.owner.error("give either material or eta and k, not both")),
+    // The reflectance: a complex index, or f0 = 1 (a perfect reflector).
+    let (eta, k, f0) = match (named, eta.is_some() || k.is_some()) {
+        (Some(_), true) => {
+            return Err(p.owner.error("give either material or eta and k, not both"))
+        }
         (Some((name, at)), false) if name != "none" => {
             let (eta, k) = super::conductors::named(name).ok_or_else(|| {
                 at.error(format!("unknown conductor material `{name}` (Mitsuba's names, e.g. Au, Ag, Cu, Al, Cr)"))
             })?;
-            Ok(MaterialDesc::Conductor {
-                alpha,
-                distribution,
-                eta: Some(Color(eta)),
-                k: Some(Color(k)),
-                f0: None,
-                multiscatter: MITSUBA_MULTISCATTER,
-                masking: MITSUBA_MASKING,
-            })
+            (Some(Color(eta)), Some(Color(k)), None)
         }
         // "none" (the default without eta/k): reflects everything at every angle.
-        (_, false) => Ok(MaterialDesc::Conductor {
-            alpha,
-            distribution,
-            eta: None,
-            k: None,
-            f0: Some(ColorOrTexture::Color(Color([1.0; 3]))),
-            multiscatter: MITSUBA_MULTISCATTER,
-            masking: MITSUBA_MASKING,
-        }),
-        (None, true) => Ok(MaterialDesc::Conductor {
-            alpha,
-            distribution,
-            eta: Some(rgb(eta, "eta")?.unwrap_or(Color([0.0; 3]))),
-            k: Some(rgb(k, "k")?.unwrap_or(Color([1.0; 3]))),
-            f0: None,
-            multiscatter: MITSUBA_MULTISCATTER,
-            masking: MITSUBA_MASKING,
-        }),
-    }
+        (_, false) => (None, None, Some(ColorOrTexture::Color(Color([1.0; 3])))),
+        (None, true) => (
+            Some(rgb(eta, "eta")?.unwrap_or(Color([0.0; 3]))),
+            Some(rgb(k, "k")?.unwrap_or(Color([1.0; 3]))),
+            None,
+        ),
+    };
+    Ok(MaterialDesc::Conductor {
+        alpha,
+        distribution,
+        eta,
+        k,
+        f0,
+        multiscatter: MITSUBA_MULTISCATTER,
+        masking: MITSUBA_MASKING,
+    })
 }
 
 /// A colour or a `bitmap`/`checkerboard` texture, with Mitsuba's default `grey`.

@@ -328,11 +328,17 @@ pub(crate) fn integrator<'a>(
                 .error("must be 0 or more")
         })?;
     }
-    if p.bool("hide_emitters")? == Some(true) {
-        return Err(unsupported(node, "hide_emitters"));
-    }
+    refuse_hidden_emitters(&p, node)?;
     p.finish()?;
     Ok((desc, None))
+}
+
+/// `hide_emitters = true` is refused: brume always shows the emitters a camera ray meets.
+fn refuse_hidden_emitters(p: &Props, node: &Node) -> Result<()> {
+    match p.bool("hide_emitters")? {
+        Some(true) => Err(unsupported(node, "hide_emitters")),
+        _ => Ok(()),
+    }
 }
 
 /// The integrator a `moment` or `aov` wrapper holds (its extra outputs are not written).
@@ -372,9 +378,7 @@ fn direct(ctx: &Ctx, node: &Node, mut desc: IntegratorDesc) -> Result<Integrator
             );
         }
     }
-    if p.bool("hide_emitters")? == Some(true) {
-        return Err(unsupported(node, "hide_emitters"));
-    }
+    refuse_hidden_emitters(&p, node)?;
     p.finish()?;
     desc.max_depth = 1;
     Ok(desc)

@@ -180,9 +180,9 @@ fn uv_frame(p: &Props, kind: &str, flip: bool) -> Result<UvFrame> {
         // from u_axis toward normal × u_axis in brume, which flip_normals turns.
         "disk" if flip => UvFrame::Flipped,
         "disk" => UvFrame::Same,
-        // brume's box with face_uv = "mitsuba" runs (u, 1 − v) over each face of Mitsuba's cube.
-        "cube" => UvFrame::Flipped,
-        _ => UvFrame::Refused("a texture on this shape"),
+        // The cube (geometry() has refused every other type): brume's box with
+        // face_uv = "mitsuba" runs (u, 1 − v) over each face of Mitsuba's cube.
+        _ => UvFrame::Flipped,
     })
 }
 

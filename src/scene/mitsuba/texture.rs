@@ -15,10 +15,8 @@ pub(crate) enum UvFrame {
     /// The same coordinates (rectangle, disk, ply, obj with flip_tex_coords = false).
     Same,
     /// The same u, Mitsuba's v is 1 − brume's (obj, whose v Mitsuba flips by default;
-    /// a rectangle or disk turned over by flip_normals).
+    /// a rectangle or disk turned over by flip_normals; a cube).
     Flipped,
-    /// No exact match: textures on this shape are refused, for this reason.
-    Refused(&'static str),
 }
 
 /// A `<texture>` on a shape whose coordinates relate to brume's by `frame`.
@@ -26,9 +24,6 @@ pub(crate) fn read(ctx: &Ctx, node: &Node, frame: UvFrame) -> Result<TextureDesc
     let kind = node.required("type")?;
     if !matches!(kind, "checkerboard" | "bitmap") {
         return Err(unsupported(node, "this texture (checkerboard, bitmap)"));
-    }
-    if let UvFrame::Refused(why) = frame {
-        return Err(unsupported(node, why));
     }
     let p = ctx.props(node)?;
     let to_uv = to_uv(&p)?;
@@ -46,7 +41,7 @@ pub(crate) fn read(ctx: &Ctx, node: &Node, frame: UvFrame) -> Result<TextureDesc
     };
     // Mitsuba looks up (su u + tu, sv v + tv) of its (u, v) on the shape.
     let ToUv { su, sv, tu, tv } = to_uv;
-    // The same in brume's (u, v) on the shape: v + offset · slope.
+    // The same in brume's (u, v) on the shape: offset + slope · v.
     let (v_offset, v_slope) = match frame {
         UvFrame::Flipped => (sv + tv, -sv),
         _ => (tv, sv),
