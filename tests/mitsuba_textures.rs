@@ -4,6 +4,8 @@
 
 mod twin_support;
 
+use brume::math::{Ray, Vec2, Vec3};
+
 use twin_support::assert_twins;
 
 /// Rectangles: Mitsuba's v matches brume's quad (a repeating bitmap, to_uv
@@ -49,18 +51,10 @@ fn textured_spheres_render_like_their_toml_twin() {
 /// through to_world, written here from Mitsuba's documented parametrization.
 #[test]
 fn a_turned_spheres_texture_coordinates_are_mitsubas() {
-    use brume::math::{Ray, Vec3};
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("scene.xml");
-    std::fs::write(
-        &path,
-        r#"<scene version="3.0.0"><sensor type="perspective"/>
-        <shape type="sphere"><transform name="to_world"><scale value="1.5"/>
-            <rotate x="0.48" y="0.6" z="0.64" angle="40"/><translate x="0.3" y="-0.2" z="0.1"/></transform>
-            <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape></scene>"#,
-    )
-    .unwrap();
-    let scene = brume::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = checkered(
+        r#"<shape type="sphere"><transform name="to_world"><scale value="1.5"/>
+            <rotate x="0.48" y="0.6" z="0.64" angle="40"/><translate x="0.3" y="-0.2" z="0.1"/></transform>"#,
+    );
     let center = glam::DVec3::new(0.3, -0.2, 0.1);
     let rotation =
         glam::DMat3::from_axis_angle(glam::DVec3::new(0.48, 0.6, 0.64), 40f64.to_radians());
@@ -74,13 +68,8 @@ fn a_turned_spheres_texture_coordinates_are_mitsubas() {
             z,
         );
         let origin = center + 10.0 * d;
-        let ray = Ray::new(origin.as_vec3(), -d.as_vec3());
-        let hit = scene
-            .geometry
-            .intersect(&ray, f32::INFINITY)
-            .expect("the ray meets the sphere");
-        let uv = scene.geometry.uv(hit.primitive, hit.st, hit.p);
-        let local = rotation.transpose() * ((hit.p.as_dvec3() - center) / 1.5);
+        let (p, uv) = hit_uv(&scene, Ray::new(origin.as_vec3(), -d.as_vec3()));
+        let local = rotation.transpose() * ((p.as_dvec3() - center) / 1.5);
         let u = local.y.atan2(local.x).rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU;
         let v = local.z.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
         let du = (uv.x as f64 - u).abs();
@@ -91,7 +80,6 @@ fn a_turned_spheres_texture_coordinates_are_mitsubas() {
             uv.y
         );
     }
-    let _ = Vec3::ZERO;
 }
 
 /// Texture coordinates that need an offset: a clamped bitmap on a rectangle
@@ -145,25 +133,13 @@ const MITSUBA_CUBE_HITS: [([f32; 3], [f32; 3], [f32; 2]); 6] = [
 /// face layout.
 #[test]
 fn an_imported_cubes_face_coordinates_are_mitsubas() {
-    use brume::math::{Ray, Vec3};
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("scene.xml");
-    std::fs::write(
-        &path,
-        r#"<scene version="3.0.0"><sensor type="perspective"/>
-        <shape type="cube"><transform name="to_world"><scale x="1.5" y="0.8" z="1.2"/>
-            <rotate x="0.6" z="0.8" angle="25"/><translate x="0.2" y="-0.1" z="0.3"/></transform>
-            <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape></scene>"#,
-    )
-    .unwrap();
-    let scene = brume::scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let scene = checkered(
+        r#"<shape type="cube"><transform name="to_world"><scale x="1.5" y="0.8" z="1.2"/>
+            <rotate x="0.6" z="0.8" angle="25"/><translate x="0.2" y="-0.1" z="0.3"/></transform>"#,
+    );
     for (origin, direction, [u, v]) in MITSUBA_CUBE_HITS {
         let ray = Ray::new(Vec3::from_array(origin), Vec3::from_array(direction));
-        let hit = scene
-            .geometry
-            .intersect(&ray, f32::INFINITY)
-            .expect("the ray meets the cube");
-        let uv = scene.geometry.uv(hit.primitive, hit.st, hit.p);
+        let (_, uv) = hit_uv(&scene, ray);
         assert!(
             (uv.x - u).abs() < 1e-4 && (uv.y - (1.0 - v)).abs() < 1e-4,
             "ray from {origin:?}: brume's ({}, {}) vs Mitsuba's (u, 1 − v) = ({u}, {})",
@@ -172,4 +148,26 @@ fn an_imported_cubes_face_coordinates_are_mitsubas() {
             1.0 - v
         );
     }
+}
+
+/// An imported scene of one shape (`shape`: its opening tag and transform)
+/// with a checkerboard diffuse reflectance.
+fn checkered(shape: &str) -> brume::integrator::Scene {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.xml");
+    let text = format!(
+        r#"<scene version="3.0.0"><sensor type="perspective"/>{shape}
+        <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape></scene>"#
+    );
+    std::fs::write(&path, text).unwrap();
+    brume::scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Where `ray` first meets the scene, and brume's (u, v) there.
+fn hit_uv(scene: &brume::integrator::Scene, ray: Ray) -> (Vec3, Vec2) {
+    let hit = scene
+        .geometry
+        .intersect(&ray, f32::INFINITY)
+        .expect("the ray meets the shape");
+    (hit.p, scene.geometry.uv(hit.primitive, hit.st, hit.p))
 }
