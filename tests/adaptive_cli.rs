@@ -122,3 +122,42 @@ fn bad_noise_targets_and_combinations_are_refused() {
         );
     }
 }
+
+/// Without `adaptive` or `noise` the summary says what the automatic choice
+/// made of its pilot; `--adaptive off`, a piece of a split render and a
+/// render below 8 spp take no pilot and say nothing of it.
+#[test]
+fn the_automatic_choice_says_what_it_chose() {
+    let dir = tempfile::tempdir().unwrap();
+    let spread = write(dir.path(), "spread.toml", &scene_text("max_depth = 1000"));
+    let out = dir.path().join("a.exr");
+    let stderr_of = |scene: &Path, args: &[&str]| {
+        let output = render(scene, &out, args);
+        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+        assert_eq!(output.status.code(), Some(0), "{stderr}");
+        stderr
+    };
+    let stderr = stderr_of(&spread, &["--spp", "64"]);
+    assert!(
+        stderr.contains("adaptive (automatic): the pilot predicts"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("adaptive: pilot 4 spp"), "{stderr}");
+    // The medium fills a narrow view: even noise, kept uniform.
+    let even = scene_text("max_depth = 1000").replace("fov = 60.0", "fov = 8.0");
+    assert_ne!(even, scene_text("max_depth = 1000"), "the fov line moved");
+    let even = write(dir.path(), "even.toml", &even);
+    let stderr = stderr_of(&even, &["--spp", "64"]);
+    assert!(
+        stderr.contains("uniform (automatic): the pilot of 4 spp"),
+        "{stderr}"
+    );
+    for args in [
+        &["--spp", "64", "--adaptive", "off"][..],
+        &["--spp", "64", "--crop", "0,6,0,12"][..],
+        &["--spp", "4"][..],
+    ] {
+        let stderr = stderr_of(&spread, args);
+        assert!(!stderr.contains("automatic"), "{args:?}: {stderr}");
+    }
+}

@@ -7,7 +7,7 @@ mod common;
 
 use brume::film::Film;
 use brume::integrator::Scene;
-use brume::render::adaptive::AdaptiveSettings;
+use brume::render::adaptive::{AdaptiveSettings, AUTO_GAIN};
 use brume::render::{render, RenderOptions, RenderOutput};
 use common::*;
 use std::sync::atomic::AtomicBool;
@@ -43,7 +43,11 @@ fn run(scene: &Scene, spp: u32, threads: usize) -> RenderOutput {
 }
 
 fn with_adaptive(mut scene: Scene, adaptive: bool, noise: Option<f32>) -> Scene {
-    scene.settings.adaptive = AdaptiveSettings { adaptive, noise };
+    scene.settings.adaptive = AdaptiveSettings {
+        adaptive,
+        noise,
+        auto: false,
+    };
     scene
 }
 
@@ -115,7 +119,7 @@ fn a_noise_target_leaves_the_furnace_unbiased_and_is_met() {
 #[test]
 fn adaptive_sampling_beats_uniform_at_equal_samples_where_noise_is_uneven() {
     let spp = 64;
-    let uniform = run(&furnace(32, 60.0), spp, 2);
+    let uniform = run(&with_adaptive(furnace(32, 60.0), false, None), spp, 2);
     let adaptive = run(&with_adaptive(furnace(32, 60.0), true, None), spp, 2);
     assert!(
         adaptive.samples <= uniform.samples,
@@ -144,4 +148,49 @@ fn adaptive_renders_do_not_depend_on_the_thread_count() {
     assert_eq!(one.film.layers[0].sums, two.film.layers[0].sums);
     assert_eq!(one.film.squares, two.film.squares);
     assert_eq!(one.noise, two.noise);
+}
+
+/// A scene loaded without `adaptive` or `noise` takes the automatic choice.
+#[test]
+fn a_scene_without_adaptive_keys_chooses_automatically() {
+    assert!(furnace(8, 60.0).settings.adaptive.auto);
+}
+
+/// The automatic choice on the furnace that fills a sixth of the frame:
+/// the pilot predicts a gain, the samples are spread as with `adaptive =
+/// true`, and every pixel is still L within its standard error.
+#[test]
+fn the_automatic_choice_spreads_uneven_noise() {
+    let scene = furnace(32, 60.0);
+    let auto = run(&scene, 64, 2);
+    let choice = auto.auto.expect("the automatic choice took a pilot");
+    assert!(choice.spread && choice.gain >= AUTO_GAIN, "{choice:?}");
+    let noise = auto
+        .noise
+        .as_ref()
+        .expect("a spread render reports its counts");
+    assert!(
+        noise.adaptive && noise.max_spp > 8 * noise.min_spp,
+        "{noise:?}"
+    );
+    assert_pixels_equal(&pixel_estimates(&auto.film), [L; 3], "automatic spread");
+}
+
+/// Where the medium fills the frame the noise is even: the pilot predicts
+/// no gain and the image is the uniform one, bit for bit, with every pixel
+/// holding the requested spp (its pilot counted among the samples taken).
+#[test]
+fn the_automatic_choice_keeps_even_noise_uniform() {
+    let scene = furnace(12, 8.0);
+    let auto = run(&scene, 32, 2);
+    let choice = auto.auto.expect("the automatic choice took a pilot");
+    assert!(!choice.spread && choice.gain < AUTO_GAIN, "{choice:?}");
+    assert!(auto.noise.is_none());
+    let uniform = run(&with_adaptive(scene, false, None), 32, 2);
+    assert!(uniform.auto.is_none());
+    assert_eq!(auto.film.counts, vec![32; 144]);
+    assert_eq!(auto.film.layers[0].sums, uniform.film.layers[0].sums);
+    assert_eq!(auto.film.squares, uniform.film.squares);
+    let pilot = choice.pilot_spp as u64 * 144;
+    assert_eq!(auto.samples, uniform.samples + pilot);
 }

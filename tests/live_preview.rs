@@ -26,7 +26,9 @@ fn render_ball(scene: &Path, exr: &Path) -> std::process::Command {
         .arg("--out")
         .arg(exr)
         .arg("--png")
-        .arg(exr.with_extension("png"));
+        .arg(exr.with_extension("png"))
+        // The passes of a uniform render: an adaptive one sends its own.
+        .args(["--adaptive", "off"]);
     cmd
 }
 

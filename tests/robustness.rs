@@ -65,7 +65,7 @@ fn interrupted_render(signal: &str, extra: &[&str], pass: i32) -> (tempfile::Tem
     let scene = slow_scene(dir.path());
     let child = brume()
         .current_dir(dir.path())
-        .args(["render", "--quiet", "--threads", "2"])
+        .args(["render", "--quiet", "--threads", "2", "--adaptive", "off"])
         .args(extra)
         .arg(&scene)
         .spawn()
@@ -98,7 +98,15 @@ fn sigint_saves_exactly_the_finished_passes() {
     // the interrupted pass left no trace.
     let output = brume()
         .current_dir(dir.path())
-        .args(["render", "--quiet", "slow.toml", "--out", "full.exr"])
+        .args([
+            "render",
+            "--quiet",
+            "--adaptive",
+            "off",
+            "slow.toml",
+            "--out",
+            "full.exr",
+        ])
         .args(["--png", "full.png", "--spp", &spp.to_string()])
         .output()
         .unwrap();

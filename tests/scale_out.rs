@@ -145,7 +145,7 @@ fn an_interrupted_piece_is_merged_by_the_samples_it_holds() {
     );
     let rest = dir.path().join("rest.exr");
     let child = brume()
-        .args(["render", "--quiet", "--threads", "2"])
+        .args(["render", "--quiet", "--threads", "2", "--adaptive", "off"])
         .arg(&scene)
         .args(spp)
         .args(["--samples", "16..1000000", "--out"])

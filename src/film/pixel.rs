@@ -15,6 +15,9 @@ pub struct PixelSums {
     pub count: u32,
     /// NaN or infinite samples, left out.
     pub nonfinite: u32,
+    /// Medium lookups (tentative collisions and exact voxel steps) of all
+    /// its samples: the adaptive pilot's deterministic measure of their cost.
+    pub lookups: u64,
 }
 
 impl PixelSums {

@@ -11,6 +11,10 @@ pub struct AdaptiveSettings {
     pub adaptive: bool,
     /// Stop once the estimated relative error of the image reaches this.
     pub noise: Option<f32>,
+    /// Neither was asked for: take a pilot and spread the samples only when
+    /// it predicts enough less error (`render::adaptive::AUTO_GAIN`), else
+    /// render exactly the uniform image.
+    pub auto: bool,
 }
 
 impl AdaptiveSettings {

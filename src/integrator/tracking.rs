@@ -36,7 +36,7 @@ use crate::medium::{HomogeneousMedium, MajorantIter, MajorantSegment, Medium, Me
 use crate::sampling::Sampler;
 use kernel::{dispatch, TrackedMedium};
 use stats::Tally;
-pub use stats::{take_thread_stats, TrackingStats};
+pub use stats::{take_thread_stats, thread_lookups, TrackingStats};
 
 mod exact;
 mod kernel;

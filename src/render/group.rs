@@ -217,6 +217,7 @@ impl<E: Estimator> Group<'_, E> {
         splats: &mut Vec<Splat>,
     ) -> bool {
         let mut sums = PixelSums::default();
+        let lookups = crate::integrator::tracking::thread_lookups();
         let streams = PixelStreams::new(self.scene.settings.sampler, self.seed, x, y);
         for s in first..first + count {
             if self.cancel.load(Ordering::Relaxed) {
@@ -230,6 +231,7 @@ impl<E: Estimator> Group<'_, E> {
                 a.add(&aov_sample(self.scene, x, y, &streams, s));
             }
         }
+        sums.lookups = crate::integrator::tracking::thread_lookups() - lookups;
         *px = sums;
         true
     }

@@ -168,6 +168,7 @@ impl<'a> Metropolis<'a> {
             truncated_interiors: 0,
             mlt: Some(stats),
             noise: None,
+            auto: None,
             refused: None,
         }
     }

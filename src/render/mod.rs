@@ -74,6 +74,9 @@ pub struct RenderOutput {
     pub mlt: Option<crate::integrator::mlt::MltStats>,
     /// A piloted render's sample counts and estimated error (None for uniform renders).
     pub noise: Option<adaptive::NoiseReport>,
+    /// What the automatic choice made of its pilot (None when adaptive or
+    /// noise was asked for, or no pilot could be taken).
+    pub auto: Option<adaptive::AutoChoice>,
     /// Why the estimator refused a pass, when it did: the render stopped
     /// there (the image holds the passes before it, marked partial).
     pub refused: Option<Refused>,

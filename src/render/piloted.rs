@@ -2,7 +2,9 @@
 //! of the image, then image passes of rising level, each pixel's samples
 //! fixed by the plan before the pass starts.
 
-use super::adaptive::{pilot_seed, pilot_spp, AdaptiveSettings, NoiseReport, Plan, MAX_FACTOR};
+use super::adaptive::{
+    pilot_seed, pilot_spp, AdaptiveSettings, AutoChoice, NoiseReport, Plan, AUTO_GAIN, MAX_FACTOR,
+};
 use super::group::Group;
 use super::run::{Piloted, Run};
 use super::{Estimator, PassObserver};
@@ -11,11 +13,12 @@ use std::sync::atomic::Ordering;
 
 impl<E: Estimator> Run<'_, E> {
     /// Renders the pilot, then image passes until the plan's goal, the time
-    /// budget or a stop request.
+    /// budget or a stop request; under the automatic choice, the uniform
+    /// passes instead when the pilot predicts too little gain.
     pub(super) fn piloted_passes(
         &mut self,
         mut on_pass: Option<PassObserver>,
-        settings: AdaptiveSettings,
+        mut settings: AdaptiveSettings,
     ) {
         assert!(
             !self.job.estimator.splats() && self.job.estimator.pass_samples().is_none(),
@@ -29,7 +32,21 @@ impl<E: Estimator> Run<'_, E> {
             return;
         };
         let w = self.job.part.crop.width() as usize;
-        let plan = Plan::new(&pilot_sums, w, settings.adaptive, pilot, cap);
+        let chosen = settings.auto && !settings.piloted();
+        let plan = Plan::new(&pilot_sums, w, settings.adaptive || chosen, pilot, cap);
+        if chosen {
+            let gain = plan.predicted_gain(w, self.options.spp);
+            let spread = gain >= AUTO_GAIN;
+            self.auto = Some(AutoChoice {
+                pilot_spp: pilot,
+                gain,
+                spread,
+            });
+            if !spread {
+                return self.uniform_passes(on_pass);
+            }
+            settings.adaptive = true;
+        }
         let goal = self.goal(&plan, settings, pilot);
         let n = pilot_sums.len();
         self.begin(pilot, n, settings);

@@ -1,7 +1,7 @@
 //! One render from its first pass to its film: groups of passes while the
 //! budget lasts, each finished pass added to the film in pass order.
 
-use super::adaptive::NoiseReport;
+use super::adaptive::{AutoChoice, NoiseReport, MIN_SPP};
 use super::group::{Buffers, Group, RayCounts};
 use super::Refused;
 use super::{pass_pixel_bytes, Estimator, Job, PassObserver, RenderOptions, RenderOutput};
@@ -30,6 +30,8 @@ pub(super) struct Run<'a, E> {
     pub(super) rays: RayCounts,
     /// A piloted render's samples and estimates (module `adaptive`).
     pub(super) piloted: Option<Piloted>,
+    /// What the automatic choice made of its pilot.
+    pub(super) auto: Option<AutoChoice>,
 }
 
 /// What a piloted render has taken so far.
@@ -62,7 +64,7 @@ impl<'a, E: Estimator> Run<'a, E> {
                 options,
                 job.part.crop.height() as u64,
                 job.estimator.pass_samples(),
-                job.scene.settings.adaptive.piloted(),
+                job.scene.settings.adaptive.piloted() || job.scene.settings.adaptive.auto,
             ),
             start: Instant::now(),
             spp_done: 0,
@@ -70,6 +72,7 @@ impl<'a, E: Estimator> Run<'a, E> {
             refused: None,
             rays: RayCounts::default(),
             piloted: None,
+            auto: None,
         }
     }
 
@@ -86,12 +89,32 @@ impl<'a, E: Estimator> Run<'a, E> {
         }
     }
 
-    /// Renders groups of passes until the budget is spent or `cancel` is set.
-    pub fn passes(&mut self, mut on_pass: Option<PassObserver>) {
+    /// Renders the image: piloted when adaptive sampling or a noise target
+    /// was asked for, or when the automatic choice may take a pilot.
+    pub fn passes(&mut self, on_pass: Option<PassObserver>) {
         let adaptive = self.job.scene.settings.adaptive;
-        if adaptive.piloted() {
+        if adaptive.piloted() || (adaptive.auto && self.may_pilot()) {
             return self.piloted_passes(on_pass, adaptive);
         }
+        self.uniform_passes(on_pass);
+    }
+
+    /// True when this render can take a pilot: a whole frame's pixel
+    /// samples from 0 (not a piece of a split render, not splats or
+    /// prepared passes), at least [`MIN_SPP`] of them.
+    fn may_pilot(&self) -> bool {
+        let (part, estimator) = (self.job.part, self.job.estimator);
+        let whole = super::Part::whole(self.job.scene, self.options.spp);
+        part.crop == whole.crop
+            && part.samples.start == 0
+            && self.options.spp >= MIN_SPP
+            && !estimator.splats()
+            && estimator.pass_samples().is_none()
+    }
+
+    /// Renders groups of the same samples in every pixel until the budget is
+    /// spent or `cancel` is set.
+    pub(super) fn uniform_passes(&mut self, mut on_pass: Option<PassObserver>) {
         let prepared = self.job.estimator.pass_samples();
         let pass_spp = prepared.unwrap_or_else(|| pass_size(self.options));
         let crop = self.job.part.crop;
@@ -247,13 +270,17 @@ impl<'a, E: Estimator> Run<'a, E> {
                     + self.film.counts.iter().map(|&n| n as u64).sum::<u64>()
                     + self.film.nonfinite.iter().map(|&n| n as u64).sum::<u64>()
             }
-            None => self.spp_done as u64 * part.crop.area() as u64,
+            None => {
+                let pilot = self.auto.map_or(0, |a| a.pilot_spp);
+                (self.spp_done + pilot) as u64 * part.crop.area() as u64
+            }
         };
         RenderOutput {
             image,
             nonfinite_samples: self.film.nonfinite.iter().map(|&n| n as u64).sum(),
             samples,
             noise: self.piloted.map(|p| p.report),
+            auto: self.auto,
             film: self.film,
             elapsed: self.start.elapsed(),
             tracking: self.rays.tracking,

@@ -6,7 +6,8 @@ use super::validate::Check;
 use crate::error::Result;
 use crate::integrator::adaptive_settings::{AdaptiveSettings, MAX_NOISE, MIN_SPP};
 
-/// `integrator.adaptive` and `integrator.noise`: adaptive by default with a noise target.
+/// `integrator.adaptive` and `integrator.noise`: adaptive by default with a
+/// noise target; with neither key, the path tracer decides from its pilot.
 pub(super) fn build_adaptive(integ: &IntegratorDesc, check: &Check) -> Result<AdaptiveSettings> {
     let noise = match integ.noise {
         Some(v) => Some(check.range("integrator.noise", v, 0.0, MAX_NOISE, false)?),
@@ -15,6 +16,10 @@ pub(super) fn build_adaptive(integ: &IntegratorDesc, check: &Check) -> Result<Ad
     let settings = AdaptiveSettings {
         adaptive: integ.adaptive.unwrap_or(noise.is_some()),
         noise,
+        auto: integ.adaptive.is_none()
+            && noise.is_none()
+            && integ.kind == "path"
+            && integ.spp >= MIN_SPP,
     };
     let field = match noise {
         Some(_) => "integrator.noise",

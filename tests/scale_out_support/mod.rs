@@ -33,12 +33,14 @@ pub fn plume_scene(dir: &Path, albedo: f32) -> PathBuf {
 }
 
 /// Renders `scene` with `args` to `NAME.exr` beside it; returns the EXR path.
+/// Whole renders are uniform (`--adaptive off`): the pieces they are
+/// compared with hold the same samples in every pixel.
 pub fn render(scene: &Path, args: &[&str], name: &str) -> PathBuf {
     let dir = scene.parent().unwrap();
     let out = dir.join(format!("{name}.exr"));
     let output = brume()
         .env_remove("JOB_COMPLETION_INDEX")
-        .args(["render", "--quiet", "--threads", "2"])
+        .args(["render", "--quiet", "--threads", "2", "--adaptive", "off"])
         .arg(scene)
         .args(args)
         .arg("--out")

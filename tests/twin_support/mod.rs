@@ -20,6 +20,9 @@ pub fn render(scene: &Path, seed_offset: u64) -> Vec<Rgb> {
     let mut loaded = brume::scene::load_with_inputs(scene)
         .unwrap_or_else(|e| panic!("{}: {e}", scene.display()));
     loaded.scene.settings.seed += seed_offset;
+    // Uniform renders: a spread one takes pixels past the scene's spp, to
+    // samples whose rounding the twins do not share (glass_sun: one pixel).
+    loaded.scene.settings.adaptive.auto = false;
     let options = brume::render::RenderOptions {
         spp: loaded.scene.settings.spp,
         time_budget: None,

@@ -42,7 +42,8 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "TARGET", allow_negative_numbers = true, value_parser = values::noise)]
     pub(crate) noise: Option<f32>,
     /// Spread the samples over the pixels by a pilot pass's error estimates: on or off
-    /// (default: the scene's integrator.adaptive, else on with a noise target and off without).
+    /// (default: the scene's integrator.adaptive, else on with a noise target and, without
+    /// one, on where the pilot predicts less error; README "Adaptive sampling").
     #[arg(long, value_name = "on|off", value_parser = values::on_off)]
     pub(crate) adaptive: Option<bool>,
     /// Tone curve of the PNG preview: aces (filmic, rolls highlights off) or clip.
@@ -136,6 +137,11 @@ fn apply_adaptive(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Re
     if let Some(on) = args.adaptive {
         a.adaptive = on;
     }
+    // The automatic choice is a default, never an error: it is dropped where a pilot cannot go.
+    let pilot_barred =
+        args.split.is_piece() || scene.settings.spp < brume::render::adaptive::MIN_SPP;
+    let a = &mut scene.settings.adaptive;
+    a.auto &= args.noise.is_none() && args.adaptive.is_none() && !pilot_barred;
     let settings = scene.settings;
     if !settings.adaptive.piloted() {
         return Ok(());

@@ -308,8 +308,29 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
     warn_dropped_work(out);
 }
 
+/// What the automatic choice made of its pilot.
+fn report_auto(out: &brume::render::RenderOutput) {
+    let Some(a) = &out.auto else { return };
+    let gain = brume::render::adaptive::AUTO_GAIN;
+    match a.spread {
+        true => eprintln!(
+            "adaptive (automatic): the pilot predicts {:.2}x the efficiency (1 / (error² × \
+             cost)) from spreading the samples (at least {gain}x spreads them; --adaptive off \
+             keeps them even)",
+            a.gain
+        ),
+        false => eprintln!(
+            "uniform (automatic): the pilot of {} spp (not in the image) predicts {:.2}x the \
+             efficiency (1 / (error² × cost)) from spreading the samples, below {gain}x; \
+             --adaptive on spreads them anyway",
+            a.pilot_spp, a.gain
+        ),
+    }
+}
+
 /// A piloted render's counts and estimated error; a warning when the noise target was missed.
 fn report_noise(out: &brume::render::RenderOutput) {
+    report_auto(out);
     let Some(r) = &out.noise else { return };
     let target = r
         .target

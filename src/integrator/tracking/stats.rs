@@ -57,6 +57,11 @@ thread_local! {
     static STATS: Cell<TrackingStats> = const { Cell::new(NO_STATS) };
 }
 
+/// This thread's medium lookups so far (see [`TrackingStats::lookups`]), left in place.
+pub fn thread_lookups() -> u64 {
+    STATS.with(|s| s.get().lookups())
+}
+
 /// Takes (and resets) this thread's tracking counts.
 pub fn take_thread_stats() -> TrackingStats {
     STATS.with(|s| s.replace(NO_STATS))
