@@ -24,31 +24,20 @@ impl<E: Estimator> Run<'_, E> {
             !self.job.estimator.splats() && self.job.estimator.pass_samples().is_none(),
             "adaptive sampling and noise targets take the path tracer's pixel samples only"
         );
-        let cap = self.cap(settings);
-        let pilot = pilot_spp(self.options.spp);
-        let Some(pilot_sums) = self.pilot(pilot) else {
+        let (cap, pilot) = (self.cap(settings), pilot_spp(self.options.spp));
+        let Some(plan) = self.plan_from_pilot(pilot, settings, cap) else {
             self.partial = true;
             self.bar.finish_and_clear();
             return;
         };
-        let w = self.job.part.crop.width() as usize;
-        let chosen = settings.auto && !settings.piloted();
-        let plan = Plan::new(&pilot_sums, w, settings.adaptive || chosen, pilot, cap);
-        if chosen {
-            let gain = plan.predicted_gain(w, self.options.spp);
-            let spread = gain >= AUTO_GAIN;
-            self.auto = Some(AutoChoice {
-                pilot_spp: pilot,
-                gain,
-                spread,
-            });
-            if !spread {
+        if settings.auto && !settings.piloted() {
+            if !self.choose_spread(&plan, pilot) {
                 return self.uniform_passes(on_pass);
             }
             settings.adaptive = true;
         }
         let goal = self.goal(&plan, settings, pilot);
-        let n = pilot_sums.len();
+        let n = self.job.part.crop.area();
         self.begin(pilot, n, settings);
         let mut done = vec![0u32; n];
         let mut level = pilot as f64;
@@ -85,6 +74,34 @@ impl<E: Estimator> Run<'_, E> {
             }
         }
         self.bar.finish_and_clear();
+    }
+
+    /// The plan from a pilot of `pilot` spp (None when a stop request cut
+    /// the pilot short); spread when adaptive or under the automatic choice.
+    fn plan_from_pilot(
+        &mut self,
+        pilot: u32,
+        settings: AdaptiveSettings,
+        cap: u32,
+    ) -> Option<Plan> {
+        let pilot_sums = self.pilot(pilot)?;
+        let w = self.job.part.crop.width() as usize;
+        let spread = settings.adaptive || settings.auto;
+        Some(Plan::new(&pilot_sums, w, spread, pilot, cap))
+    }
+
+    /// The automatic choice: spread the samples by `plan` when its predicted
+    /// gain reaches [`AUTO_GAIN`] (recorded either way).
+    fn choose_spread(&mut self, plan: &Plan, pilot: u32) -> bool {
+        let w = self.job.part.crop.width() as usize;
+        let gain = plan.predicted_gain(w, self.options.spp);
+        let spread = gain >= AUTO_GAIN;
+        self.auto = Some(AutoChoice {
+            pilot_spp: pilot,
+            gain,
+            spread,
+        });
+        spread
     }
 
     /// The level of the next pass: double this one's, or with a time budget

@@ -126,6 +126,14 @@ pub(crate) fn apply_overrides(
     Ok(())
 }
 
+/// The automatic choice is a default, never an error: dropped where a flag
+/// decides, or a pilot cannot go (a piece, fewer than `MIN_SPP` samples).
+fn keep_auto_where_it_may_pilot(scene: &mut brume::integrator::Scene, args: &RenderArgs) {
+    let barred = args.split.is_piece() || scene.settings.spp < brume::render::adaptive::MIN_SPP;
+    let a = &mut scene.settings.adaptive;
+    a.auto &= args.noise.is_none() && args.adaptive.is_none() && !barred;
+}
+
 /// Applies --noise and --adaptive, refusing them where they cannot apply.
 fn apply_adaptive(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Result<()> {
     use brume::integrator::IntegratorKind;
@@ -137,11 +145,7 @@ fn apply_adaptive(scene: &mut brume::integrator::Scene, args: &RenderArgs) -> Re
     if let Some(on) = args.adaptive {
         a.adaptive = on;
     }
-    // The automatic choice is a default, never an error: it is dropped where a pilot cannot go.
-    let pilot_barred =
-        args.split.is_piece() || scene.settings.spp < brume::render::adaptive::MIN_SPP;
-    let a = &mut scene.settings.adaptive;
-    a.auto &= args.noise.is_none() && args.adaptive.is_none() && !pilot_barred;
+    keep_auto_where_it_may_pilot(scene, args);
     let settings = scene.settings;
     if !settings.adaptive.piloted() {
         return Ok(());
