@@ -415,6 +415,9 @@ def scene_file(key, resolution, spp, work):
 
 
 RATE_RE = re.compile(r"at (\d+) spp in ([0-9.]+) s")
+# A piloted render (brume's automatic choice or --adaptive on): "at N spp" is
+# the most of any pixel; the samples taken are the pilot's and the mean's.
+PILOTED_RE = re.compile(r"^adaptive: pilot (\d+) spp .* \(mean ([0-9.]+)\)", re.M)
 TRACK_RE = re.compile(r"tracking: ([0-9.]+) tentative collisions per sample, null fraction ([0-9.]+)"
                       r"(?:, ([0-9.]+) exact voxel steps per sample)?")
 
@@ -430,7 +433,11 @@ def run_brume(key, resolution, spp, threads, seed, work, out_name):
         raise RuntimeError(f"no timing in brume's output:\n{err}")
     t = TRACK_RE.search(err)
     seconds = float(m.group(2))
-    return {"image": read_exr(exr), "seconds": seconds, "spp": int(m.group(1)), "rss": rss,
+    piloted = PILOTED_RE.search(err)
+    spp = int(m.group(1))
+    if piloted:
+        spp = int(piloted.group(1)) + float(piloted.group(2))
+    return {"image": read_exr(exr), "seconds": seconds, "spp": spp, "rss": rss,
             "load_seconds": wall - seconds,
             "collisions": float(t.group(1)) if t else None,
             "null_fraction": float(t.group(2)) if t else None,

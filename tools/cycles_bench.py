@@ -104,7 +104,11 @@ HARNESS = {
 }
 bench.SCENES.update(CYCLES_EXTRA)
 
-SETTINGS = {"cycles": False, "cycles+guiding": True}
+# Each Cycles column: (path guiding, adaptive sampling). brume's own default
+# may spread its samples (the automatic choice of `integrator.adaptive`), so
+# Cycles gets its adaptive sampling too (its default threshold and minimum).
+SETTINGS = {"cycles": (False, False), "cycles+guiding": (True, False),
+            "cycles+adaptive": (False, True)}
 
 
 def have_bpy():
@@ -131,7 +135,7 @@ def cycles_worker(args):
     spec = json.loads(Path(args.spec).read_text())
     out = Path(args.out)
     recorded = cycles_scene.build(spec, args.resolution, args.threads, args.guiding, args.seed,
-                                  args.vdb)
+                                  args.vdb, args.adaptive)
     scene = cycles_scene.bpy.context.scene
     cycles_scene.render(scene, 1, out.with_suffix(".warm.exr"))
     overhead = min(cycles_scene.render(scene, 1, out.with_suffix(".one.exr")) for _ in range(2))
@@ -151,19 +155,22 @@ def cycles_worker(args):
                       "settings": recorded}))
 
 
-def run_cycles(key, resolution, spp, threads, seed, guiding, work, seconds=0.0):
+def run_cycles(key, resolution, spp, threads, seed, mode, work, seconds=0.0):
+    guiding, adaptive = mode
     spec = work / f"{key}-cycles.json"
     desc = json.loads(json.dumps(bench.SCENES[key]))
     for light in desc["lights"]:
         if "file" in light:
             light["path"] = str(REPO / light["file"])
     spec.write_text(json.dumps(desc))
-    out = work / f"{key}-cycles-{int(guiding)}-{seed}.exr"
+    out = work / f"{key}-cycles-{int(guiding)}{int(adaptive)}-{seed}.exr"
     cmd = [sys.executable, __file__, "cycles-worker", "--spec", str(spec), "--out", str(out),
            "--spp", str(spp), "--seconds", str(seconds), "--threads", str(threads),
            "--seed", str(seed), "--resolution", f"{resolution[0]},{resolution[1]}"]
     if guiding:
         cmd.append("--guiding")
+    if adaptive:
+        cmd.append("--adaptive")
     if vdb_path(key):
         cmd += ["--vdb", vdb_path(key)]
     stdout, _, _, rss = bench.peak_rss_of(cmd)
@@ -203,7 +210,8 @@ def references(name, args, work, lock):
 
     def cycles_half(seed):
         with lock():
-            r = run_cycles(key, res, 0, args.threads, seed, False, work, seconds=args.ref_seconds / 2)
+            r = run_cycles(key, res, 0, args.threads, seed, SETTINGS["cycles"], work,
+                           seconds=args.ref_seconds / 2)
         print(f"  {name} check half: cycles {r['spp']} spp in {r['seconds']:.1f} s", flush=True)
         return r["image"]
 
@@ -250,7 +258,8 @@ def equal_time_runs(name, key, res, args, work, brume_ref):
     for rep in range(args.repeats):
         for who in renderers:
             run = one_run(who, key, res, spp.get(who, 0), args, 100 + rep, work)
-            spp[who] = run["spp"]
+            if who != "brume":  # brume's stays what its pilots chose (a spread run reports its mean)
+                spp[who] = run["spp"]
             settings = run.pop("settings", settings)
             run.update(bench.score(run, *brume_ref))
             del run["image"]
@@ -321,8 +330,11 @@ def update_markdown(path, result):
         "Cycles settings (both columns): " + ", ".join(f"`{k}={v}`" for k, v in sorted(s.items())
                                                        if k not in ("samples", "seed", "use_guiding",
                                                                     "use_surface_guiding",
-                                                                    "use_volume_guiding")) +
+                                                                    "use_volume_guiding",
+                                                                    "use_adaptive_sampling")) +
         "; `cycles+guiding` sets `use_guiding`, `use_surface_guiding`, `use_volume_guiding`; "
+        "`cycles+adaptive` sets `use_adaptive_sampling` (Cycles' default threshold 0.01 and "
+        "automatic minimum), the others leave it off; "
         "view transform Standard, box filter of width 1, EXR 32-bit output.",
         "<!-- cycles:end -->",
     ]
@@ -425,6 +437,7 @@ def main():
         w.add_argument(name, type=t)
     w.add_argument("--resolution", type=lambda s: [int(x) for x in s.split(",")])
     w.add_argument("--guiding", action="store_true")
+    w.add_argument("--adaptive", action="store_true")
     args = p.parse_args()
     if args.cmd == "run":
         args.command_line = "python3 tools/cycles_bench.py " + " ".join(sys.argv[1:])

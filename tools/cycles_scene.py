@@ -14,7 +14,8 @@ loaded. Unit matching, each checked by the harness's mean ratios:
   density = σt, so σt and the albedo are brume's; a VDB's density attribute
   is multiplied by the table's scale, its clipping set to 0 (Cycles would
   otherwise drop voxels below 0.001);
-- Standard view transform, no denoising, no adaptive sampling, no clamping,
+- Standard view transform, no denoising, adaptive sampling only when asked
+  (the harness's `cycles+adaptive` column), no clamping,
   no glossy filter, no light threshold, unbiased volumes.
 """
 
@@ -35,11 +36,11 @@ def reset():
     return scene
 
 
-def settings(scene, resolution, threads, guiding, seed, bounces):
+def settings(scene, resolution, threads, guiding, seed, bounces, adaptive=False):
     """Render settings that make Cycles estimate what brume does; returns them for the report."""
     c = scene.cycles
     values = {
-        "samples": 1, "use_adaptive_sampling": False, "use_denoising": False,
+        "samples": 1, "use_adaptive_sampling": adaptive, "use_denoising": False,
         "pixel_filter_type": "BOX", "filter_width": 1.0, "max_bounces": bounces,
         "diffuse_bounces": bounces, "glossy_bounces": bounces, "transmission_bounces": bounces,
         "volume_bounces": bounces, "transparent_max_bounces": min(4 * bounces, 1024),
@@ -247,12 +248,13 @@ def add_medium(scene, medium, vdb_path):
     scene.collection.objects.link(obj)
 
 
-def build(spec, resolution, threads, guiding, seed, vdb_path):
+def build(spec, resolution, threads, guiding, seed, vdb_path, adaptive=False):
     """The whole Cycles scene for a table entry; returns the recorded render settings."""
     scene = reset()
     # The table's max_depth counts the camera vertex, as Mitsuba's does: brume and Cycles
     # get one less (scattering events / bounces).
-    recorded = settings(scene, resolution, threads, guiding, seed, spec.get("max_depth", 64) - 1)
+    recorded = settings(scene, resolution, threads, guiding, seed, spec.get("max_depth", 64) - 1,
+                        adaptive)
     add_camera(scene, spec["camera"])
     env = [x for x in spec["lights"] if x["type"] == "environment"]
     add_world(scene, env[0]["radiance"] if env else [0.0, 0.0, 0.0])
