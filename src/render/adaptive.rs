@@ -64,6 +64,8 @@ pub fn pilot_seed(seed: u64) -> u64 {
 pub struct Plan {
     /// Relative variance per sample of each pixel (luminance-normalised).
     rel_var: Vec<f64>,
+    /// Variance per sample of each pixel (the mean over channels).
+    abs_var: Vec<f64>,
     /// Cost of a sample of each pixel, in units of a sample without media
     /// ([`sample_costs`]).
     cost: Vec<f64>,
@@ -79,7 +81,7 @@ impl Plan {
     /// The plan of a `w`×`h` crop from its pilot sums; `adaptive` false gives
     /// every pixel the same count.
     pub fn new(pilot: &[PixelSums], w: usize, adaptive: bool, min_count: u32, cap: u32) -> Plan {
-        let rel_var = relative_variances(pilot);
+        let (abs_var, rel_var) = variances(pilot);
         let cost = sample_costs(pilot);
         let density = match adaptive {
             true => densities(&rel_var, &cost, w, true),
@@ -87,6 +89,7 @@ impl Plan {
         };
         Plan {
             rel_var,
+            abs_var,
             cost,
             density,
             min_count: min_count.min(cap),
@@ -96,27 +99,37 @@ impl Plan {
 
     /// How many times more efficient (1 / (error² × cost)) the spread is
     /// predicted to be than the same count in every pixel, for a render of
-    /// `spp` samples per pixel in all: the spread image holds `spp − pilot`
-    /// on average and pays for the pilot too. Each pixel is judged with the
-    /// density of its 8 neighbours alone, independent of its own pilot
-    /// samples: with its own, a pilot's noise would vouch for itself and a
-    /// scene of even noise would seem to gain. 0 when the pilot saw no
-    /// variance at all.
+    /// `spp` samples per pixel in all, by the lesser of two measures of
+    /// error: the relative error (the noise target's) and the plain squared
+    /// error (MSE), which a spread toward dark pixels can lose while the
+    /// relative one gains. The spread image holds `spp − pilot` on average
+    /// and pays for the pilot too. Each pixel is judged with the density
+    /// of its 8 neighbours alone, independent of its own pilot samples:
+    /// with its own, a pilot's noise would vouch for itself and a scene of
+    /// even noise would seem to gain. 0 when the pilot saw no variance.
     pub fn predicted_gain(&self, w: usize, spp: u32) -> f64 {
         let neighbours = densities(&self.rel_var, &self.cost, w, false);
         let level = spp.saturating_sub(self.min_count).max(1) as f64;
-        let (mut error, mut work) = (0.0, 0.0);
-        for ((v, c), d) in self.rel_var.iter().zip(&self.cost).zip(&neighbours) {
-            let n = (level * d).max(self.min_count.max(1) as f64);
-            error += v / n;
-            work += c * (n + self.min_count as f64);
-        }
-        let variance: f64 = self.rel_var.iter().sum();
-        let cost: f64 = self.cost.iter().sum();
-        match variance > 0.0 && variance.is_finite() {
-            true => variance * cost / (error * work),
-            false => 0.0,
-        }
+        let counts: Vec<f64> = neighbours
+            .iter()
+            .map(|d| (level * d).max(self.min_count.max(1) as f64))
+            .collect();
+        let work: f64 = self
+            .cost
+            .iter()
+            .zip(&counts)
+            .map(|(c, n)| c * (n + self.min_count as f64))
+            .sum();
+        let uniform_work: f64 = self.cost.iter().sum();
+        let gain = |var: &[f64]| {
+            let uniform: f64 = var.iter().sum();
+            let spread: f64 = var.iter().zip(&counts).map(|(v, n)| v / n).sum();
+            match uniform > 0.0 && uniform.is_finite() {
+                true => uniform * uniform_work / (spread * work),
+                false => 0.0,
+            }
+        };
+        gain(&self.rel_var).min(gain(&self.abs_var))
     }
 
     /// Image samples of pixel `i` at `level` (a level is about the mean spp).
@@ -213,23 +226,30 @@ impl Plan {
     }
 }
 
-/// Per pixel: (1/3)·Σ over channels of the sample variance, over
-/// max(luminance of the mean, floor)²; the floor is [`FLOOR_FRACTION`] of
-/// the mean luminance of all pixels.
-fn relative_variances(pilot: &[PixelSums]) -> Vec<f64> {
+/// Per pixel: v = (1/3)·Σ over channels of the sample variance, and v
+/// over max(luminance of the mean, floor)²; the floor is [`FLOOR_FRACTION`]
+/// of the mean luminance of all pixels.
+fn variances(pilot: &[PixelSums]) -> (Vec<f64>, Vec<f64>) {
+    let abs_var: Vec<f64> = pilot
+        .iter()
+        .map(|p| (0..3).map(|c| sample_variance(p, c)).sum::<f64>() / 3.0)
+        .collect();
+    let rel_var = relative_variances(pilot, &abs_var);
+    (abs_var, rel_var)
+}
+
+/// Each pixel's variance `abs_var` over max(its luminance, floor)².
+fn relative_variances(pilot: &[PixelSums], abs_var: &[f64]) -> Vec<f64> {
     let lum: Vec<f64> = pilot
         .iter()
         .map(|p| p.mean().luminance().max(0.0) as f64)
         .collect();
     let mean = lum.iter().sum::<f64>() / lum.len().max(1) as f64;
     let floor = (FLOOR_FRACTION * mean).max(1e-12);
-    pilot
+    abs_var
         .iter()
         .zip(&lum)
-        .map(|(p, &y)| {
-            let v: f64 = (0..3).map(|c| sample_variance(p, c)).sum::<f64>() / 3.0;
-            v / y.max(floor).powi(2)
-        })
+        .map(|(v, &y)| v / y.max(floor).powi(2))
         .collect()
 }
 
@@ -380,12 +400,34 @@ mod tests {
         let mut costly = noisy;
         costly.lookups = 4 * 7; // 7 lookups per sample: cost 8
         let pilot = [noisy, costly];
-        let rel_var = relative_variances(&pilot);
+        let (_, rel_var) = variances(&pilot);
         let cost = sample_costs(&pilot);
         assert_eq!(cost, vec![1.0, 8.0]);
         // 1×2 pixels: each pixel's neighbourhood is both, so leave the centre out.
         let d = densities(&rel_var, &cost, 2, false);
         assert!((d[1] / d[0] - 8f64.sqrt()).abs() < 1e-9, "{d:?}");
+    }
+
+    /// Bright pixels with the larger noise beside dark ones with the larger
+    /// relative noise: spreading toward the dark half would lower the
+    /// relative error but raise the squared error, so no gain is predicted.
+    #[test]
+    fn a_spread_that_loses_the_squared_error_is_not_predicted_to_gain() {
+        let w = 16;
+        let bright = sums(&[9.0, 11.0, 9.0, 11.0]); // luminance 10, variance 4/3
+        let dark = sums(&[0.5, 1.5, 0.5, 1.5]); // luminance 1, variance 1/3
+        let pilot: Vec<PixelSums> = (0..w * w)
+            .map(|i| if i % w < w / 2 { bright } else { dark })
+            .collect();
+        let plan = Plan::new(&pilot, w, true, 4, 1 << 20);
+        // The relative measure wants the dark half: 25× its relative variance.
+        assert!(
+            plan.density[w - 1] > 3.0 * plan.density[0],
+            "{:?}",
+            plan.density
+        );
+        let gain = plan.predicted_gain(w, 64);
+        assert!(gain < 1.0, "{gain}");
     }
 
     /// Pseudo-random pilot sums of `n` samples with variance `var` (a
