@@ -16,8 +16,12 @@ pub struct PixelSums {
     /// NaN or infinite samples, left out.
     pub nonfinite: u32,
     /// Medium lookups (tentative collisions and exact voxel steps) of all
-    /// its samples: the adaptive pilot's deterministic measure of their cost.
+    /// its samples: with `rays`, the adaptive pilot's deterministic measure
+    /// of their cost.
     pub lookups: u64,
+    /// Rays its samples traced through the geometry (camera, scattered and
+    /// shadow rays).
+    pub rays: u64,
 }
 
 impl PixelSums {

@@ -260,6 +260,7 @@ impl Geometry {
 
     /// Closest hit with `t < t_max` (moving shapes at the ray's time).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<SurfaceHit> {
+        count_ray();
         let still = self.intersect_still(ray, t_max);
         let Some(moving) = &self.moving else {
             return still;
@@ -338,6 +339,7 @@ impl Geometry {
 
     /// True when anything blocks the ray before `t_max` (moving shapes at the ray's time).
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        count_ray();
         self.occluded_still(ray, t_max)
             || self.moving.as_ref().is_some_and(|m| m.occluded(ray, t_max))
     }
@@ -400,6 +402,23 @@ impl Geometry {
             ),
         }
     }
+}
+
+thread_local! {
+    // Per thread, so counting costs no shared cache line (see `thread_rays`).
+    static RAYS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Rays this thread has traced through the geometry (closest hits and
+/// occlusion tests), never reset: the adaptive pilot's count of a pixel's
+/// work is the difference across its samples.
+pub fn thread_rays() -> u64 {
+    RAYS.with(|r| r.get())
+}
+
+#[inline]
+fn count_ray() {
+    RAYS.with(|r| r.set(r.get().wrapping_add(1)));
 }
 
 /// Which items go into the BVH and which are tested by every ray ("loose"),

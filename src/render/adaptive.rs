@@ -33,10 +33,10 @@ pub const FLOOR_FRACTION: f64 = 0.1;
 pub const MAX_FACTOR: u32 = 16;
 
 /// With neither `adaptive` nor `noise` given, the samples are spread only
-/// when the pilot predicts at least this many times less relative variance
-/// than the same samples in every pixel: the prediction leaves out what
-/// the spread costs where samples are dearer (dense media, deep paths).
-pub const AUTO_GAIN: f64 = 1.25;
+/// when the pilot predicts at least this many times the efficiency of the
+/// same samples in every pixel ([`Plan::predicted_gain`]): a margin for a
+/// cost model that counts rays and lookups, not time.
+pub const AUTO_GAIN: f64 = 1.15;
 
 /// What the automatic choice (no `adaptive`, no `noise`) made of its pilot.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,8 +64,11 @@ pub fn pilot_seed(seed: u64) -> u64 {
 pub struct Plan {
     /// Relative variance per sample of each pixel (luminance-normalised).
     rel_var: Vec<f64>,
-    /// Variance per sample of each pixel (the mean over channels).
-    abs_var: Vec<f64>,
+    /// The same, at least [`unseen_variance`]: what the spread goes by.
+    guarded_rel: Vec<f64>,
+    /// Variance per sample of each pixel (the mean over channels), at
+    /// least [`unseen_variance`] relative to its luminance.
+    guarded_abs: Vec<f64>,
     /// Cost of a sample of each pixel, in units of a sample without media
     /// ([`sample_costs`]).
     cost: Vec<f64>,
@@ -81,15 +84,20 @@ impl Plan {
     /// The plan of a `w`×`h` crop from its pilot sums; `adaptive` false gives
     /// every pixel the same count.
     pub fn new(pilot: &[PixelSums], w: usize, adaptive: bool, min_count: u32, cap: u32) -> Plan {
-        let (abs_var, rel_var) = variances(pilot);
+        let Variances {
+            rel_var,
+            guarded_rel,
+            guarded_abs,
+        } = variances(pilot);
         let cost = sample_costs(pilot);
         let density = match adaptive {
-            true => densities(&rel_var, &cost, w, true),
+            true => densities(&guarded_rel, &cost, w, true),
             false => vec![1.0; rel_var.len()],
         };
         Plan {
             rel_var,
-            abs_var,
+            guarded_rel,
+            guarded_abs,
             cost,
             density,
             min_count: min_count.min(cap),
@@ -108,7 +116,7 @@ impl Plan {
     /// with its own, a pilot's noise would vouch for itself and a scene of
     /// even noise would seem to gain. 0 when the pilot saw no variance.
     pub fn predicted_gain(&self, w: usize, spp: u32) -> f64 {
-        let neighbours = densities(&self.rel_var, &self.cost, w, false);
+        let neighbours = densities(&self.guarded_rel, &self.cost, w, false);
         let level = spp.saturating_sub(self.min_count).max(1) as f64;
         let counts: Vec<f64> = neighbours
             .iter()
@@ -129,7 +137,7 @@ impl Plan {
                 false => 0.0,
             }
         };
-        gain(&self.rel_var).min(gain(&self.abs_var))
+        gain(&self.guarded_rel).min(gain(&self.guarded_abs))
     }
 
     /// Image samples of pixel `i` at `level` (a level is about the mean spp).
@@ -228,29 +236,61 @@ impl Plan {
 
 /// Per pixel: v = (1/3)·Σ over channels of the sample variance, and v
 /// over max(luminance of the mean, floor)²; the floor is [`FLOOR_FRACTION`]
-/// of the mean luminance of all pixels.
-fn variances(pilot: &[PixelSums]) -> (Vec<f64>, Vec<f64>) {
+/// of the mean luminance of all pixels; for the spread, neither is taken
+/// below [`unseen_variance`] where a sample traced more than its camera
+/// ray: no pilot proves such a pixel exact.
+fn variances(pilot: &[PixelSums]) -> Variances {
     let abs_var: Vec<f64> = pilot
         .iter()
         .map(|p| (0..3).map(|c| sample_variance(p, c)).sum::<f64>() / 3.0)
         .collect();
-    let rel_var = relative_variances(pilot, &abs_var);
-    (abs_var, rel_var)
+    let (scale, rel_var) = relative_variances(pilot, &abs_var);
+    let guarded_rel: Vec<f64> = pilot
+        .iter()
+        .zip(&rel_var)
+        .map(|(p, &v)| match p.rays > (p.count + p.nonfinite) as u64 {
+            true => v.max(unseen_variance(p.count)),
+            // One ray per sample: the camera ray escaped, no event to meet.
+            false => v,
+        })
+        .collect();
+    let guarded_abs = guarded_rel.iter().zip(&scale).map(|(v, s)| v * s).collect();
+    Variances {
+        rel_var,
+        guarded_rel,
+        guarded_abs,
+    }
 }
 
-/// Each pixel's variance `abs_var` over max(its luminance, floor)².
-fn relative_variances(pilot: &[PixelSums], abs_var: &[f64]) -> Vec<f64> {
+/// A pilot's variances per pixel (see [`Plan`]'s fields of the same names).
+struct Variances {
+    rel_var: Vec<f64>,
+    guarded_rel: Vec<f64>,
+    guarded_abs: Vec<f64>,
+}
+
+/// The least relative variance per sample a pixel is taken to have after
+/// `n` pilot samples: an event the 9·n samples of its 3×3 neighbourhood
+/// never met may still come at a rate of 1/(9n + 2) (Laplace's rule of
+/// succession), and a sample that is 0 at that rate and else the mean
+/// over 1 − p has a relative variance of p/(1 − p) ≈ p. Without it, the
+/// pixels of a sky-lit ground whose pilot met no occluder (most of them)
+/// get the fewest samples and carry the image's error.
+fn unseen_variance(n: u32) -> f64 {
+    1.0 / (9.0 * n as f64 + 2.0)
+}
+
+/// Each pixel's max(luminance, floor)² and its variance `abs_var` over it.
+fn relative_variances(pilot: &[PixelSums], abs_var: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let lum: Vec<f64> = pilot
         .iter()
         .map(|p| p.mean().luminance().max(0.0) as f64)
         .collect();
     let mean = lum.iter().sum::<f64>() / lum.len().max(1) as f64;
     let floor = (FLOOR_FRACTION * mean).max(1e-12);
-    abs_var
-        .iter()
-        .zip(&lum)
-        .map(|(v, &y)| v / y.max(floor).powi(2))
-        .collect()
+    let scale: Vec<f64> = lum.iter().map(|&y| y.max(floor).powi(2)).collect();
+    let rel_var = abs_var.iter().zip(&scale).map(|(v, s)| v / s).collect();
+    (scale, rel_var)
 }
 
 /// The unbiased sample variance of channel `c` (0 below two samples).
@@ -259,14 +299,18 @@ fn sample_variance(p: &PixelSums, c: usize) -> f64 {
         .map_or(0.0, |v| v * p.count as f64)
 }
 
-/// Each pixel's cost per sample: 1 + its pilot's medium lookups per sample.
-/// Lookups are counted, not timed, so the plan (and the image) depends on
-/// the seed only; a lookup costs about what a sample without media does
-/// (0.08–0.18 µs against 0.07 µs on the bench scenes).
+/// Each pixel's cost per sample: its pilot's rays and medium lookups per
+/// sample, at least 1. Both are counted, not timed, so the plan (and the
+/// image) depends on the seed only; a lookup costs about what a ray does
+/// (0.08–0.18 µs per lookup on the bench scenes, 0.07 µs per sample of a
+/// camera ray that escapes).
 fn sample_costs(pilot: &[PixelSums]) -> Vec<f64> {
     pilot
         .iter()
-        .map(|p| 1.0 + p.lookups as f64 / (p.count + p.nonfinite).max(1) as f64)
+        .map(|p| {
+            let work = (p.rays + p.lookups) as f64;
+            (work / (p.count + p.nonfinite).max(1) as f64).max(1.0)
+        })
         .collect()
 }
 
@@ -398,9 +442,9 @@ mod tests {
     fn a_costlier_pixel_gets_fewer_samples() {
         let noisy = sums(&[0.0, 2.0, 0.0, 2.0]);
         let mut costly = noisy;
-        costly.lookups = 4 * 7; // 7 lookups per sample: cost 8
+        (costly.rays, costly.lookups) = (4, 4 * 7); // a ray and 7 lookups per sample: cost 8
         let pilot = [noisy, costly];
-        let (_, rel_var) = variances(&pilot);
+        let rel_var = variances(&pilot).guarded_rel;
         let cost = sample_costs(&pilot);
         assert_eq!(cost, vec![1.0, 8.0]);
         // 1×2 pixels: each pixel's neighbourhood is both, so leave the centre out.
@@ -428,6 +472,22 @@ mod tests {
         );
         let gain = plan.predicted_gain(w, 64);
         assert!(gain < 1.0, "{gain}");
+    }
+
+    /// A pixel whose samples traced more than the camera ray is never taken
+    /// as exact, however alike its pilot samples came out; one whose camera
+    /// ray escaped is.
+    #[test]
+    fn only_an_escaped_camera_ray_is_taken_as_exact() {
+        let mut escaped = sums(&[1.0; 4]);
+        escaped.rays = 4;
+        let mut bounced = escaped;
+        bounced.rays = 12;
+        let v = variances(&[escaped, bounced]);
+        assert_eq!(v.rel_var, vec![0.0, 0.0]);
+        assert_eq!(v.guarded_rel, vec![0.0, 1.0 / 38.0]);
+        // Luminance 1 is above the floor (0.1 of the mean): the same variance.
+        assert_eq!(v.guarded_abs, vec![0.0, 1.0 / 38.0]);
     }
 
     /// Pseudo-random pilot sums of `n` samples with variance `var` (a

@@ -218,6 +218,7 @@ impl<E: Estimator> Group<'_, E> {
     ) -> bool {
         let mut sums = PixelSums::default();
         let lookups = crate::integrator::tracking::thread_lookups();
+        let rays = crate::geometry::thread_rays();
         let streams = PixelStreams::new(self.scene.settings.sampler, self.seed, x, y);
         for s in first..first + count {
             if self.cancel.load(Ordering::Relaxed) {
@@ -232,6 +233,7 @@ impl<E: Estimator> Group<'_, E> {
             }
         }
         sums.lookups = crate::integrator::tracking::thread_lookups() - lookups;
+        sums.rays = crate::geometry::thread_rays().wrapping_sub(rays);
         *px = sums;
         true
     }
