@@ -125,7 +125,7 @@ fn bad_noise_targets_and_combinations_are_refused() {
 
 /// Without `adaptive` or `noise` the summary says what the automatic choice
 /// made of its pilot; `--adaptive off`, a piece of a split render and a
-/// render below 8 spp take no pilot and say nothing of it.
+/// render below 64 spp take no pilot and say nothing of it.
 #[test]
 fn the_automatic_choice_says_what_it_chose() {
     let dir = tempfile::tempdir().unwrap();
@@ -155,7 +155,7 @@ fn the_automatic_choice_says_what_it_chose() {
     for args in [
         &["--spp", "64", "--adaptive", "off"][..],
         &["--spp", "64", "--crop", "0,6,0,12"][..],
-        &["--spp", "4"][..],
+        &["--spp", "32"][..],
     ] {
         let stderr = stderr_of(&spread, args);
         assert!(!stderr.contains("automatic"), "{args:?}: {stderr}");

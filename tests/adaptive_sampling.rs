@@ -179,18 +179,21 @@ fn the_automatic_choice_spreads_uneven_noise() {
 /// Where the medium fills the frame the noise is even: the pilot predicts
 /// no gain and the image is the uniform one, bit for bit, with every pixel
 /// holding the requested spp (its pilot counted among the samples taken).
+/// Below 64 spp no pilot is taken.
 #[test]
 fn the_automatic_choice_keeps_even_noise_uniform() {
     let scene = furnace(12, 8.0);
-    let auto = run(&scene, 32, 2);
+    let auto = run(&scene, 64, 2);
     let choice = auto.auto.expect("the automatic choice took a pilot");
     assert!(!choice.spread && choice.gain < AUTO_GAIN, "{choice:?}");
     assert!(auto.noise.is_none());
-    let uniform = run(&with_adaptive(scene, false, None), 32, 2);
+    let uniform = run(&with_adaptive(scene, false, None), 64, 2);
     assert!(uniform.auto.is_none());
-    assert_eq!(auto.film.counts, vec![32; 144]);
+    assert_eq!(auto.film.counts, vec![64; 144]);
     assert_eq!(auto.film.layers[0].sums, uniform.film.layers[0].sums);
     assert_eq!(auto.film.squares, uniform.film.squares);
     let pilot = choice.pilot_spp as u64 * 144;
     assert_eq!(auto.samples, uniform.samples + pilot);
+    // Below 64 spp the choice takes no pilot.
+    assert!(run(&furnace(12, 8.0), 63, 2).auto.is_none());
 }

@@ -38,6 +38,12 @@ pub const MAX_FACTOR: u32 = 16;
 /// cost model that counts rays and lookups, not time.
 pub const AUTO_GAIN: f64 = 1.15;
 
+/// The fewest spp the automatic choice takes a pilot for: its pilot (at
+/// least 4 spp) is then at most 1/16 of the samples. Below, a pilot of a
+/// render that keeps uniform would cost too much of it (B3's 29-spp bench
+/// runs: 14 %).
+pub const AUTO_MIN_SPP: u32 = 64;
+
 /// What the automatic choice (no `adaptive`, no `noise`) made of its pilot.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AutoChoice {

@@ -1,7 +1,7 @@
 //! One render from its first pass to its film: groups of passes while the
 //! budget lasts, each finished pass added to the film in pass order.
 
-use super::adaptive::{AutoChoice, NoiseReport, MIN_SPP};
+use super::adaptive::{AutoChoice, NoiseReport, AUTO_MIN_SPP};
 use super::group::{Buffers, Group, RayCounts};
 use super::Refused;
 use super::{pass_pixel_bytes, Estimator, Job, PassObserver, RenderOptions, RenderOutput};
@@ -99,15 +99,15 @@ impl<'a, E: Estimator> Run<'a, E> {
         self.uniform_passes(on_pass);
     }
 
-    /// True when this render can take a pilot: a whole frame's pixel
+    /// True when the automatic choice takes a pilot: a whole frame's pixel
     /// samples from 0 (not a piece of a split render, not splats or
-    /// prepared passes), at least [`MIN_SPP`] of them.
+    /// prepared passes), at least [`AUTO_MIN_SPP`] of them.
     fn may_pilot(&self) -> bool {
         let (part, estimator) = (self.job.part, self.job.estimator);
         let whole = super::Part::whole(self.job.scene, self.options.spp);
         part.crop == whole.crop
             && part.samples.start == 0
-            && self.options.spp >= MIN_SPP
+            && self.options.spp >= AUTO_MIN_SPP
             && !estimator.splats()
             && estimator.pass_samples().is_none()
     }
