@@ -197,3 +197,32 @@ fn the_automatic_choice_keeps_even_noise_uniform() {
     // Below 64 spp the choice takes no pilot.
     assert!(run(&furnace(12, 8.0), 63, 2).auto.is_none());
 }
+
+/// Pieces of a split render hold the same samples in every pixel: a crop
+/// or a sample range that does not start at 0 takes no automatic pilot,
+/// while the whole frame of the same scene does.
+#[test]
+fn pieces_of_a_split_render_take_no_automatic_pilot() {
+    use brume::film::{Rect, SampleRange};
+    use brume::render::{render_part, Part};
+    let scene = furnace(32, 60.0);
+    let options = RenderOptions {
+        spp: 64,
+        time_budget: None,
+        spp_is_cap: false,
+        threads: Some(2),
+        progress: false,
+    };
+    let full = Rect::full(32, 32);
+    let crop = Rect { x1: 16, ..full };
+    let cancel = AtomicBool::new(false);
+    let render_piece = |crop: Rect, samples: SampleRange| {
+        render_part(&scene, &options, &Part { crop, samples }, &cancel, None)
+    };
+    assert!(render_piece(full, SampleRange::new(0, 64)).auto.is_some());
+    let cropped = render_piece(crop, SampleRange::new(0, 64));
+    assert!(cropped.auto.is_none() && cropped.noise.is_none());
+    // 64 samples, as many as the whole frame's above, but not from 0.
+    let later = render_piece(full, SampleRange::new(64, 128));
+    assert!(later.auto.is_none() && later.noise.is_none());
+}
