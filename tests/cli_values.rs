@@ -45,7 +45,16 @@ fn all_parsers(text: &str) {
         values::host_port(text).err(),
     ];
     for e in errors.into_iter().flatten() {
-        plain(&e);
+        plain_echoing(&e, text);
+    }
+}
+
+/// [`plain`], except for words the user's own `text` holds: a message may
+/// quote what was written (a random text once held `u64`).
+fn plain_echoing(message: &str, text: &str) {
+    assert!(!message.contains('\n'), "not one line: {message}");
+    for word in RUST_WORDS.iter().filter(|w| !text.contains(**w)) {
+        assert!(!message.contains(word), "`{word}` in: {message}");
     }
 }
 
@@ -342,4 +351,11 @@ proptest! {
             prop_assert!(!dir.path().join("a").exists(), "airlight wrote before refusing");
         }
     }
+}
+
+/// The random text that once failed the property above: it holds `u64`,
+/// which the frame-step message quotes back.
+#[test]
+fn a_text_holding_a_rust_word_may_be_quoted_back() {
+    all_parsers("Y&$¥ୃ:t𐴗𑏌eu64𐨖'N𑽉𐭔EG=¥ᏺ<Ѩ");
 }
