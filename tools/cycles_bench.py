@@ -327,7 +327,7 @@ def update_markdown(path, result):
         "",
         result["table"],
         "",
-        "Cycles settings (both columns): " + ", ".join(f"`{k}={v}`" for k, v in sorted(s.items())
+        "Cycles settings (every column): " + ", ".join(f"`{k}={v}`" for k, v in sorted(s.items())
                                                        if k not in ("samples", "seed", "use_guiding",
                                                                     "use_surface_guiding",
                                                                     "use_volume_guiding",

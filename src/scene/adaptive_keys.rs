@@ -16,10 +16,7 @@ pub(super) fn build_adaptive(integ: &IntegratorDesc, check: &Check) -> Result<Ad
     let settings = AdaptiveSettings {
         adaptive: integ.adaptive.unwrap_or(noise.is_some()),
         noise,
-        auto: integ.adaptive.is_none()
-            && noise.is_none()
-            && integ.kind == "path"
-            && integ.spp >= MIN_SPP,
+        auto: integ.adaptive.is_none() && noise.is_none() && integ.kind == "path",
     };
     let field = match noise {
         Some(_) => "integrator.noise",

@@ -127,11 +127,12 @@ pub(crate) fn apply_overrides(
 }
 
 /// The automatic choice is a default, never an error: dropped where a flag
-/// decides, or a pilot cannot go (a piece, fewer than `MIN_SPP` samples).
+/// decides, or for a piece of a split render (a sample range from 0 looks
+/// whole to the renderer, whose own guard, `Run::may_pilot`, sees the rest:
+/// crops, later sample ranges, too few samples).
 fn keep_auto_where_it_may_pilot(scene: &mut brume::integrator::Scene, args: &RenderArgs) {
-    let barred = args.split.is_piece() || scene.settings.spp < brume::render::adaptive::MIN_SPP;
     let a = &mut scene.settings.adaptive;
-    a.auto &= args.noise.is_none() && args.adaptive.is_none() && !barred;
+    a.auto &= args.noise.is_none() && args.adaptive.is_none() && !args.split.is_piece();
 }
 
 /// Applies --noise and --adaptive, refusing them where they cannot apply.

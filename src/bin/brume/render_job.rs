@@ -304,6 +304,7 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
         );
     }
     super::mlt_cli::report(out);
+    report_auto(out);
     report_noise(out);
     warn_dropped_work(out);
 }
@@ -330,7 +331,6 @@ fn report_auto(out: &brume::render::RenderOutput) {
 
 /// A piloted render's counts and estimated error; a warning when the noise target was missed.
 fn report_noise(out: &brume::render::RenderOutput) {
-    report_auto(out);
     let Some(r) = &out.noise else { return };
     let target = r
         .target
