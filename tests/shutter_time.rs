@@ -13,6 +13,7 @@ fn settings(shutter: Option<[f32; 2]>) -> Settings {
         seed: 0,
         transmittance: TransmittanceEstimator::Auto,
         equiangular: false,
+        forced_scattering: true,
         shutter,
         sampler: brume::sampling::SamplerKind::Independent,
         sppm: Default::default(),

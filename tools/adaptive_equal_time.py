@@ -4,6 +4,7 @@
 
     python3 tools/adaptive_equal_time.py SCENE.toml REFERENCE.npz \
         [--seconds 4] [--seeds 1,2,3] [--modes off,auto] [--brume target/release/brume]
+        [--variant NAME='FLAGS' ...]
 
 REFERENCE.npz holds two independently seeded halves `a` and `b` of the
 reference image (height × width × 3), as tools/bench.py and
@@ -12,11 +13,15 @@ own noise is subtracted from each MSE. Each render takes the CPU lock
 (`flock /tmp/cpu.lock`, or $BRUME_CPU_LOCK) and `--time SECONDS`;
 efficiency = 1 / (MSE × seconds), with the seconds brume reports. Prints
 one line per render and the median efficiency of each mode over the seeds.
+Each `--variant NAME='FLAGS'` (repeatable) replaces the modes with a render
+given those flags, e.g. `--variant collision='--adaptive off --set
+integrator.forced_scattering=false'`.
 """
 
 import argparse
 import os
 import re
+import shlex
 import statistics
 import subprocess
 import sys
@@ -31,8 +36,7 @@ from exr_numpy import read_rgb  # noqa: E402
 RATE_RE = re.compile(r"at (\d+) spp in ([0-9.]+) s")
 
 
-def render(brume, scene, mode, seed, seconds, out, lock):
-    flags = [] if mode == "auto" else ["--adaptive", mode]
+def render(brume, scene, flags, seed, seconds, out, lock):
     cmd = ["flock", lock, brume, "render", scene, "--threads", "2", "--seed", str(seed),
            "--time", str(seconds), *flags, "--out", str(out), "--png", str(out.with_suffix(".png"))]
     p = subprocess.run(cmd, capture_output=True, text=True)
@@ -50,6 +54,8 @@ def main():
     ap.add_argument("--seconds", type=float, default=4.0)
     ap.add_argument("--seeds", default="1,2,3")
     ap.add_argument("--modes", default="off,auto", help="comma-separated: off, on, auto (no flag)")
+    ap.add_argument("--variant", action="append", default=[],
+                    help="NAME=FLAGS: a render with these flags (replaces --modes)")
     ap.add_argument("--brume", default=str(Path(__file__).resolve().parents[1] / "target/release/brume"))
     args = ap.parse_args()
     lock = os.environ.get("BRUME_CPU_LOCK", "/tmp/cpu.lock")
@@ -59,10 +65,14 @@ def main():
     ref_var = float(np.mean((a - b) ** 2)) / 4
     efficiency = {}
     with tempfile.TemporaryDirectory() as tmp:
-        for mode in args.modes.split(","):
+        if args.variant:
+            variants = [(v.split("=", 1)[0], shlex.split(v.split("=", 1)[1])) for v in args.variant]
+        else:
+            variants = [(m, [] if m == "auto" else ["--adaptive", m]) for m in args.modes.split(",")]
+        for mode, flags in variants:
             for seed in [int(s) for s in args.seeds.split(",")]:
                 out = Path(tmp) / f"{mode}-{seed}.exr"
-                seconds, chosen = render(args.brume, args.scene, mode, seed, args.seconds, out, lock)
+                seconds, chosen = render(args.brume, args.scene, flags, seed, args.seconds, out, lock)
                 mse = float(np.mean((read_rgb(out) - mean_ref) ** 2)) - ref_var
                 eff = 1.0 / (mse * seconds)
                 efficiency.setdefault(mode, []).append(eff)

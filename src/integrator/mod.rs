@@ -12,6 +12,7 @@ pub mod bdpt;
 mod direct;
 mod equiangular;
 pub mod estimator;
+mod forced;
 pub mod guiding;
 pub mod interfaces;
 pub mod mlt;
@@ -66,6 +67,9 @@ pub struct Settings {
     pub transmittance: TransmittanceEstimator,
     /// Add equiangular sampling toward point and spot lights along rays in media.
     pub equiangular: bool,
+    /// Sample lights from a point drawn over each medium segment (module `forced`),
+    /// not from the free flight's collision.
+    pub forced_scattering: bool,
     /// Camera shutter `[open, close]` in frames relative to the frame's time
     /// (`None`: every ray at time 0, the instant of the frame).
     pub shutter: Option<[f32; 2]>,
@@ -501,6 +505,17 @@ fn medium_segment(
     if let Some(segment) = &segment {
         path.radiance += path.throughput * equiangular::estimate(scene, segment, sampler);
     }
+    let forced = forced_in_scattering(
+        scene,
+        media,
+        path,
+        t_surface,
+        segment.is_some() || last_event,
+        sampler,
+    );
+    if let Some(light) = forced {
+        path.radiance += path.throughput * light;
+    }
     let event = sample_free_flight(
         media,
         &path.ray,
@@ -517,10 +532,43 @@ fn medium_segment(
             scene,
             path,
             (t, &properties),
-            segment.as_ref(),
+            (segment.as_ref(), forced.is_some()),
             (last_event, sampler),
         )),
     }
+}
+
+/// The segment's light sampled from a forced point (module [`forced`]), where
+/// that strategy applies: one medium on the ray, no equiangular segment or
+/// photon gathering (`excluded`), no guide, no interface rule.
+fn forced_in_scattering(
+    scene: &Scene,
+    media: &[Medium],
+    path: &PathState,
+    t_surface: f32,
+    excluded: bool,
+    sampler: &mut Sampler,
+) -> Option<Rgb> {
+    let [medium] = media else {
+        return None;
+    };
+    if !scene.settings.forced_scattering
+        || excluded
+        || path.emission_only
+        || path.guide.is_some()
+        || path.log.is_some()
+        || scene.interfaces.is_some()
+    {
+        return None;
+    }
+    forced::estimate(
+        scene,
+        medium,
+        &path.ray,
+        t_surface,
+        (path.ray.time, path.medium),
+        sampler,
+    )
 }
 
 /// A real collision at `t` of the path's segment: next-event estimation,
@@ -530,7 +578,7 @@ fn scatter_in_segment(
     scene: &Scene,
     path: &mut PathState,
     (t, properties): (f32, &MediumProperties),
-    segment: Option<&equiangular::Segment>,
+    (segment, forced): (Option<&equiangular::Segment>, bool),
     (last_event, sampler): (bool, &mut Sampler),
 ) -> Step {
     let p = path.ray.at(t);
@@ -544,7 +592,11 @@ fn scatter_in_segment(
     };
     let alpha = guiding::phase_fraction(&properties.phase);
     let mixed = tree.map(|t| (t, alpha));
-    path.radiance += path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
+    // Forced in-scattering sampled this segment's light already (module `forced`).
+    if !forced {
+        path.radiance +=
+            path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
+    }
     let Some((dir, weight, pdf)) =
         scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler)
     else {

@@ -365,6 +365,10 @@ pub struct IntegratorDesc {
     /// Equiangular sampling toward point and spot lights in media (MIS with free flight).
     #[serde(default = "default_true")]
     pub equiangular: bool,
+    /// Sample lights from a point drawn over each medium segment, not from the
+    /// free flight's collision (default: on unless the camera is inside a medium).
+    #[serde(default)]
+    pub forced_scattering: Option<bool>,
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.
     #[serde(default = "default_sampler")]
     pub sampler: String,
@@ -428,6 +432,7 @@ impl Default for IntegratorDesc {
             seed: 0,
             transmittance: default_transmittance(),
             equiangular: true,
+            forced_scattering: None,
             sampler: default_sampler(),
             photons: None,
             radius: None,

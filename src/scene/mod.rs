@@ -509,6 +509,9 @@ pub fn build_frame_cached(
     let light_pick = light_pick(&lights, &shapes.geometry, &camera);
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
     settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
+    if desc.integrator.forced_scattering.is_none() {
+        settings.forced_scattering = !camera_in_a_medium(&media, &camera);
+    }
     let scene = Scene {
         camera,
         geometry: shapes.geometry,
@@ -523,6 +526,16 @@ pub fn build_frame_cached(
         aovs: build_aovs(&desc.film.aovs, &check)?,
     };
     Ok((scene, check.take_warnings()))
+}
+
+/// Whether the camera sits inside a medium (at time 0). Such a medium (an
+/// atmosphere, a fog layer) makes every segment of every path a medium
+/// segment, where forced in-scattering's extra light sample per segment
+/// measured as costing more than it saves (BENCHMARKS.md, "Forced
+/// in-scattering"): its default is then off.
+fn camera_in_a_medium(media: &[crate::medium::Medium], camera: &crate::camera::Camera) -> bool {
+    let eye = camera.view_at(0.0).position;
+    media.iter().any(|m| !m.sigma_t(eye).is_black())
 }
 
 /// The time keyframe times count from: the frame number for
@@ -579,6 +592,7 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
         rr_depth: integ.rr_depth,
         seed: integ.seed,
         equiangular: integ.equiangular,
+        forced_scattering: integ.forced_scattering.unwrap_or(true),
         shutter,
         transmittance: match integ.transmittance.as_str() {
             "auto" => TransmittanceEstimator::Auto,

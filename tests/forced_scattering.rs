@@ -1,0 +1,85 @@
+//! Forced in-scattering (`integrator.forced_scattering`): the same answer as
+//! next-event estimation from the free flight's collisions, a lower variance
+//! in a thin slab under a small light, and its default.
+
+mod common;
+
+use brume::math::{Ray, Vec3};
+use common::*;
+
+/// A thin HG slab (optical thickness 1 across) over a diffuse ground, lit by a small bright sphere above it.
+fn slab_text(forced: bool, max_scatter: &str) -> String {
+    SceneText::view([0.0, 2.5, 8.0], [0.0, 0.6, 0.0])
+        .integrator(&format!("max_depth = 1000\nforced_scattering = {forced}"))
+        .with(max_scatter)
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [10.0, 10.0])
+        .with("material = { type = \"diffuse\", albedo = 0.5 }")
+        .sphere([0.5, 4.0, 0.0], 0.2)
+        .with("emission = 500.0")
+        .medium(
+            "type = \"homogeneous\"\nsigma_t = 2.0\nalbedo = [0.95, 0.9, 0.8]\n\
+             phase = { type = \"hg\", g = 0.7 }\n\
+             bounds = { type = \"box\", min = [-2.0, 0.75, -1.0], max = [2.0, 1.25, 1.0] }",
+        )
+        .build()
+}
+
+/// Same expectation either way, for single and multiple scattering, along a
+/// ray that sees the slab against the ground and one that sees the ground
+/// under it. Forcing lowers the standard error in every case, and by a fifth
+/// or more with multiple scattering, where the segments inside the slab and
+/// up from the ground cross it mostly without scattering (measured: 0.59 and
+/// 0.72 of the collisions' error; single scattering 0.91 along the camera
+/// ray through the slab, 0.77 in the ground's direct light).
+#[test]
+fn forced_and_collision_estimates_agree_and_forcing_lowers_variance_in_a_thin_slab() {
+    let eye = Vec3::new(0.0, 2.5, 8.0);
+    for target in [Vec3::new(0.3, 1.0, 0.0), Vec3::new(-0.5, 0.0, 0.2)] {
+        let ray = Ray::new(eye, (target - eye).normalize());
+        for max_scatter in ["max_scatter_depth = 1", ""] {
+            let collision = estimate_ray(
+                &scene_from_str(&slab_text(false, max_scatter)),
+                ray,
+                100_000,
+                3,
+            );
+            let forced = estimate_ray(
+                &scene_from_str(&slab_text(true, max_scatter)),
+                ray,
+                100_000,
+                4,
+            );
+            let what = format!("toward {target:?}, {max_scatter}");
+            assert_same(&collision, &forced, &what);
+            let bound = if max_scatter.is_empty() { 0.8 } else { 1.0 };
+            for c in 0..3 {
+                assert!(
+                    forced.std_error[c] < bound * collision.std_error[c],
+                    "{what}: channel {c}: forced error {} not below the collisions' {}",
+                    forced.std_error[c],
+                    collision.std_error[c]
+                );
+            }
+        }
+    }
+}
+
+/// On by default unless the camera is inside a medium; the key decides when given.
+#[test]
+fn forcing_is_on_by_default_unless_the_camera_is_inside_a_medium() {
+    let scene = |camera_y: f32, key: &str| {
+        let text = SceneText::view([0.0, camera_y, 8.0], [0.0; 3])
+            .integrator(key)
+            .environment(1.0)
+            .medium(
+                "type = \"homogeneous\"\nsigma_t = 0.1\nalbedo = 1.0\n\
+                 bounds = { type = \"box\", min = [-20.0, -1.0, -20.0], max = [20.0, 2.0, 20.0] }",
+            )
+            .build();
+        scene_from_str(&text).settings.forced_scattering
+    };
+    assert!(scene(5.0, ""), "camera above the layer");
+    assert!(!scene(1.0, ""), "camera inside the layer");
+    assert!(scene(1.0, "forced_scattering = true"));
+    assert!(!scene(5.0, "forced_scattering = false"));
+}
