@@ -136,20 +136,29 @@ fn slabs() -> Vec<Slab> {
     ]
 }
 
-/// max_scatter_depth = 1: the slab's radiance is the single-scattering closed form.
+/// max_scatter_depth = 1: the slab's radiance is the single-scattering
+/// closed form, whether light is sampled from the free flight's collisions or
+/// from forced points (`forced_scattering`, off by default under a sun).
 #[test]
 fn sunlit_slab_single_scattering() {
-    for (k, slab) in slabs().iter().enumerate() {
-        let scene = scene_from_str(&slab.scene(Some(1)));
-        let est = estimate_li(&scene, slab.ray(), N, 60 + k as u64);
-        assert_estimate(
-            &est,
-            slab.single_scattering(),
-            &format!(
-                "slab σt={:?} α={:?} g={} sun={:?} view={:?}",
-                slab.sigma_t, slab.albedo, slab.g, slab.sun, slab.view
-            ),
-        );
+    for forced in [false, true] {
+        for (k, slab) in slabs().iter().enumerate() {
+            let text = slab.scene(Some(1)).replace(
+                "[integrator]",
+                &format!("[integrator]\nforced_scattering = {forced}"),
+            );
+            let scene = scene_from_str(&text);
+            assert_eq!(scene.settings.forced_scattering, forced);
+            let est = estimate_li(&scene, slab.ray(), N, 60 + k as u64);
+            assert_estimate(
+                &est,
+                slab.single_scattering(),
+                &format!(
+                    "slab σt={:?} α={:?} g={} sun={:?} view={:?} forced={forced}",
+                    slab.sigma_t, slab.albedo, slab.g, slab.sun, slab.view
+                ),
+            );
+        }
     }
 }
 

@@ -64,13 +64,19 @@ fn forced_and_collision_estimates_agree_and_forcing_lowers_variance_in_a_thin_sl
     }
 }
 
-/// On by default unless the camera is inside a medium; the key decides when given.
+/// On by default unless the camera is inside a medium or a light is at
+/// infinity (a sun, an environment); the key decides when given.
 #[test]
-fn forcing_is_on_by_default_unless_the_camera_is_inside_a_medium() {
-    let scene = |camera_y: f32, key: &str| {
-        let text = SceneText::view([0.0, camera_y, 8.0], [0.0; 3])
+fn forcing_is_on_by_default_only_outside_media_under_finite_lights() {
+    let scene = |camera_y: f32, sky: bool, key: &str| {
+        let mut text = SceneText::view([0.0, camera_y, 8.0], [0.0; 3])
             .integrator(key)
-            .environment(1.0)
+            .sphere([0.0, 10.0, 0.0], 1.0)
+            .with("emission = 10.0");
+        if sky {
+            text = text.environment(0.1);
+        }
+        let text = text
             .medium(
                 "type = \"homogeneous\"\nsigma_t = 0.1\nalbedo = 1.0\n\
                  bounds = { type = \"box\", min = [-20.0, -1.0, -20.0], max = [20.0, 2.0, 20.0] }",
@@ -78,8 +84,9 @@ fn forcing_is_on_by_default_unless_the_camera_is_inside_a_medium() {
             .build();
         scene_from_str(&text).settings.forced_scattering
     };
-    assert!(scene(5.0, ""), "camera above the layer");
-    assert!(!scene(1.0, ""), "camera inside the layer");
-    assert!(scene(1.0, "forced_scattering = true"));
-    assert!(!scene(5.0, "forced_scattering = false"));
+    assert!(scene(5.0, false, ""), "camera above the layer");
+    assert!(!scene(1.0, false, ""), "camera inside the layer");
+    assert!(!scene(5.0, true, ""), "a sky");
+    assert!(scene(1.0, true, "forced_scattering = true"));
+    assert!(!scene(5.0, false, "forced_scattering = false"));
 }

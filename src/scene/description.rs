@@ -366,7 +366,8 @@ pub struct IntegratorDesc {
     #[serde(default = "default_true")]
     pub equiangular: bool,
     /// Sample lights from a point drawn over each medium segment, not from the
-    /// free flight's collision (default: on unless the camera is inside a medium).
+    /// free flight's collision (default: on unless the camera is inside a medium
+    /// or a light is at infinity).
     #[serde(default)]
     pub forced_scattering: Option<bool>,
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.

@@ -510,7 +510,8 @@ pub fn build_frame_cached(
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
     settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
     if desc.integrator.forced_scattering.is_none() {
-        settings.forced_scattering = !camera_in_a_medium(&media, &camera);
+        settings.forced_scattering =
+            !camera_in_a_medium(&media, &camera) && !lights.iter().any(|l| l.is_infinite());
     }
     let scene = Scene {
         camera,
@@ -532,7 +533,8 @@ pub fn build_frame_cached(
 /// atmosphere, a fog layer) makes every segment of every path a medium
 /// segment, where forced in-scattering's extra light sample per segment
 /// measured as costing more than it saves (BENCHMARKS.md, "Forced
-/// in-scattering"): its default is then off.
+/// in-scattering"): its default is then off, as it is under a sun or sky,
+/// whose light phase sampling finds too.
 fn camera_in_a_medium(media: &[crate::medium::Medium], camera: &crate::camera::Camera) -> bool {
     let eye = camera.view_at(0.0).position;
     media.iter().any(|m| !m.sigma_t(eye).is_black())
