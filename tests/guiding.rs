@@ -272,13 +272,24 @@ fn guided_image_is_independent_of_thread_count() {
 /// direction, far from the BSDF's and phase's densities, so MIS weights
 /// that used the BSDF/phase density instead of the mixture's (for next-event
 /// estimation or for hits of the sphere) would show. Guided pixels equal
-/// unguided ones within their standard errors.
+/// unguided ones within their standard errors. Without the sky the unguided
+/// render samples the sphere by forced in-scattering (its default there),
+/// which a guided path must not: its continuation's density is the mixture's.
 #[test]
 fn guided_and_unguided_agree_under_a_small_area_light() {
-    let text = SceneText::camera([0.0, 1.2, 3.0], [0.0, 0.0, 0.0], [8, 8])
+    for sky in [true, false] {
+        guided_and_unguided_agree_under_an_area_light(sky);
+    }
+}
+
+fn guided_and_unguided_agree_under_an_area_light(sky: bool) {
+    let mut text = SceneText::camera([0.0, 1.2, 3.0], [0.0, 0.0, 0.0], [8, 8])
         .fov(50.0)
-        .depths(8, 4)
-        .environment([0.05, 0.05, 0.05])
+        .depths(8, 4);
+    if sky {
+        text = text.environment([0.05, 0.05, 0.05]);
+    }
+    let text = text
         .quad([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [6.0, 6.0])
         .with("material = { type = \"diffuse\", albedo = 0.8 }")
         .sphere([0.6, 1.2, -0.4], 0.25)
@@ -286,6 +297,7 @@ fn guided_and_unguided_agree_under_a_small_area_light() {
         .medium("type = \"homogeneous\"\nsigma_t = 0.3\nalbedo = 0.9\nbounds = { type = \"box\", min = [-3.0, 0.0, -3.0], max = [3.0, 0.8, 3.0] }")
         .build();
     let scene = scene_from_str(&text);
+    assert_eq!(scene.settings.forced_scattering, !sky);
     let guided = guided_pixels(&scene, 512);
     let plain = estimate_pixels(&scene, 512);
     let means: Vec<[f64; 3]> = plain.iter().map(|e| e.mean).collect();
@@ -295,7 +307,7 @@ fn guided_and_unguided_agree_under_a_small_area_light() {
         &guided,
         &means,
         &ses,
-        "guided vs unguided under an area light",
+        &format!("guided vs unguided under an area light, sky {sky}"),
     );
 }
 
