@@ -9,9 +9,9 @@
 //! scatters gathers it divided by 1 − T. Here the segment instead draws one
 //! point t with the free-flight density conditioned on scattering inside,
 //! p(t) = σ̄(t)·T̄(0, t) / (1 − T̄), and samples a light there, weighted
-//! σs(t)·T(0, t) / p(t) (T by the shadow rays' transmittance estimator, in
-//! closed form for homogeneous media); the real collision of the free
-//! flight, if any, then samples only the path's continuation.
+//! σs(t)·T(0, t) / p(t) (T in closed form: the strategy is used only in
+//! media that have one); the real collision of the free flight, if any,
+//! then samples only the path's continuation.
 //!
 //! The MIS partition between light and phase sampling is kept: a path
 //! through a point t of the segment toward a light has weight
@@ -21,7 +21,6 @@
 //! own.
 
 use super::direct::{direct_light, Vertex};
-use super::tracking::medium_transmittance;
 use super::Scene;
 use crate::math::color::Rgb;
 use crate::math::Ray;
@@ -135,7 +134,7 @@ pub(super) fn estimate(
     if properties.sigma_s.is_black() {
         return Some(Rgb::BLACK);
     }
-    let tr = medium_transmittance(medium, ray, point.t, scene.settings.transmittance, sampler);
+    let tr = medium.optical_depth(ray, 0.0, point.t)?.exp_neg();
     if tr.is_black() {
         return Some(Rgb::BLACK);
     }
