@@ -850,6 +850,43 @@ fn russian_roulette(
 mod tests {
     use super::*;
 
+    /// Forced in-scattering runs on a plain path and stands aside for a
+    /// guided path, a training path, an excluded segment and the interface
+    /// rule (their densities or media are not the ones its weights assume).
+    #[test]
+    fn forced_in_scattering_stands_aside_for_guides_logs_and_interfaces() {
+        let text = "[camera]\nposition = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+            [[shape]]\ntype = \"sphere\"\ncenter = [0.0, 3.0, 0.0]\nradius = 0.5\nemission = 10.0\n\
+            [[medium]]\ntype = \"homogeneous\"\nsigma_t = 1.0\nalbedo = 0.9\n\
+            bounds = { type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }\n";
+        let file = std::path::Path::new("test.toml");
+        let desc = crate::scene::parse(text, file).expect("parse");
+        let mut scene = crate::scene::build(&desc, file, std::path::Path::new(".")).expect("build");
+        assert!(scene.settings.forced_scattering);
+        let media = scene.media.clone();
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+        let mut sampler = Sampler::new(1, 0, 0, 0);
+        let mut forced = |scene: &Scene, path: &PathState, excluded: bool| {
+            forced_in_scattering(scene, &media, path, f32::INFINITY, excluded, &mut sampler)
+        };
+        let plain = PathState::new(&scene, ray, None, None, None);
+        assert!(forced(&scene, &plain, false).is_some());
+        assert!(forced(&scene, &plain, true).is_none());
+        let guide = Guide::new();
+        let guided = PathState::new(&scene, ray, None, Some(&guide), None);
+        assert!(forced(&scene, &guided, false).is_none());
+        let mut log = PathLog::new();
+        let training = PathState::new(&scene, ray, None, None, Some(&mut log));
+        assert!(forced(&scene, &training, false).is_none());
+        scene.interfaces = Some(interfaces::Interfaces {
+            sides: vec![None],
+            null: vec![false],
+            camera: Some(0),
+        });
+        let ruled = PathState::new(&scene, ray, None, None, None);
+        assert!(forced(&scene, &ruled, false).is_none());
+    }
+
     /// A walk of 255 events in a medium of albedo 0.99 (a cloud): every
     /// survivor's throughput stays at most 1, where a survival probability
     /// capped at 0.95 would have grown it by 0.99/0.95 per event (to ~10^4).
