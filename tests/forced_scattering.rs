@@ -90,3 +90,29 @@ fn forcing_is_on_by_default_only_outside_media_under_finite_lights() {
     assert!(scene(1.0, true, "forced_scattering = true"));
     assert!(!scene(5.0, false, "forced_scattering = false"));
 }
+
+/// Equiangular sampling toward a point light owns the segments it samples:
+/// forcing stands aside there (the free flight's collision keeps its light
+/// sample, whose MIS weight counts on it), so the key changes nothing in
+/// expectation.
+#[test]
+fn forcing_stands_aside_where_equiangular_sampling_runs() {
+    let text = |forced: bool| {
+        SceneText::view([0.0, 2.5, 8.0], [0.0, 0.6, 0.0])
+            .integrator(&format!("max_depth = 1000\nforced_scattering = {forced}"))
+            .point_light([0.5, 1.0, 0.0], 5.0)
+            .medium(
+                "type = \"homogeneous\"\nsigma_t = 2.0\nalbedo = 0.95\n\
+                 phase = { type = \"hg\", g = 0.7 }\n\
+                 bounds = { type = \"box\", min = [-2.0, 0.75, -1.0], max = [2.0, 1.25, 1.0] }",
+            )
+            .build()
+    };
+    let eye = Vec3::new(0.0, 2.5, 8.0);
+    let ray = Ray::new(eye, (Vec3::new(0.3, 1.0, 0.0) - eye).normalize());
+    let on = scene_from_str(&text(true));
+    assert!(on.settings.forced_scattering && on.settings.equiangular);
+    let with = estimate_ray(&on, ray, 100_000, 5);
+    let without = estimate_ray(&scene_from_str(&text(false)), ray, 100_000, 6);
+    assert_same(&with, &without, "point light, forced on and off");
+}
