@@ -124,8 +124,9 @@ fn bad_noise_targets_and_combinations_are_refused() {
 }
 
 /// Without `adaptive` or `noise` the summary says what the automatic choice
-/// made of its pilot; `--adaptive off`, a piece of a split render and a
-/// render below 64 spp take no pilot and say nothing of it.
+/// made of its pilot; `--adaptive off`, `adaptive = false` or a noise target
+/// in the scene, a piece of a split render and a render below 64 spp make no
+/// automatic choice and say nothing of it.
 #[test]
 fn the_automatic_choice_says_what_it_chose() {
     let dir = tempfile::tempdir().unwrap();
@@ -159,5 +160,19 @@ fn the_automatic_choice_says_what_it_chose() {
     ] {
         let stderr = stderr_of(&spread, args);
         assert!(!stderr.contains("automatic"), "{args:?}: {stderr}");
+    }
+    // The scene's own keys decide as the flags do: `adaptive = false` keeps
+    // the render uniform, a noise target is adaptive by the user's choice.
+    for (keys, chosen) in [
+        ("max_depth = 1000\nadaptive = false", None),
+        ("max_depth = 1000\nnoise = 0.05", Some("adaptive: pilot")),
+    ] {
+        let scene = write(dir.path(), "keys.toml", &scene_text(keys));
+        let stderr = stderr_of(&scene, &["--spp", "64"]);
+        assert!(!stderr.contains("automatic"), "{keys}: {stderr}");
+        match chosen {
+            Some(line) => assert!(stderr.contains(line), "{keys}: {stderr}"),
+            None => assert!(!stderr.contains("adaptive: pilot"), "{keys}: {stderr}"),
+        }
     }
 }
