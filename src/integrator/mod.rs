@@ -18,6 +18,7 @@ pub mod interfaces;
 pub mod mlt;
 pub mod slab_record;
 pub mod sppm;
+pub mod sun_lobe;
 pub mod tracking;
 
 use crate::camera::Camera;
@@ -70,6 +71,9 @@ pub struct Settings {
     /// Sample lights from a point drawn over each medium segment (module `forced`),
     /// not from the free flight's collision.
     pub forced_scattering: bool,
+    /// Sun-lobe sampling of the first medium scatterings (module [`sun_lobe`]);
+    /// `None` without a sun or with `integrator.sun_lobe = 0`.
+    pub sun_lobe: Option<sun_lobe::SunLobe>,
     /// Camera shutter `[open, close]` in frames relative to the frame's time
     /// (`None`: every ray at time 0, the instant of the frame).
     pub shutter: Option<[f32; 2]>,
@@ -592,14 +596,31 @@ fn scatter_in_segment(
     };
     let alpha = guiding::phase_fraction(&properties.phase);
     let mixed = tree.map(|t| (t, alpha));
+    // A forced point's light sample weighs against the phase density alone.
+    let lobe = match tree.is_none() && path.log.is_none() && !forced {
+        true => scene.settings.sun_lobe,
+        false => None,
+    }
+    .filter(|l| l.applies(&properties.phase, path.scatter_depth));
     // Forced in-scattering sampled this segment's light already (module `forced`).
     if !forced {
-        path.radiance +=
-            path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
+        path.radiance += path.throughput
+            * match lobe {
+                None => vertex_direct_light(scene, path, &vertex, mixed, sampler),
+                Some(l) => direct_light_mixed(
+                    scene,
+                    &vertex,
+                    (path.ray.time, path.medium),
+                    sampler,
+                    |d, pdf| l.mixture_pdf(&properties.phase, d, pdf),
+                ),
+            };
     }
-    let Some((dir, weight, pdf)) =
-        scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler)
-    else {
+    let sampled = match lobe {
+        None => scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler),
+        Some(l) => l.sample(&properties.phase, path.ray.direction, sampler),
+    };
+    let Some((dir, weight, pdf)) = sampled else {
         return Step::Stop;
     };
     path.throughput *= weight;

@@ -370,6 +370,10 @@ pub struct IntegratorDesc {
     /// or a light is at infinity).
     #[serde(default)]
     pub forced_scattering: Option<bool>,
+    /// Share of the first medium scatterings' continuations drawn from the
+    /// phase function's lobe toward the sun (default 0.1; 0 turns it off).
+    #[serde(default)]
+    pub sun_lobe: Option<f32>,
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.
     #[serde(default = "default_sampler")]
     pub sampler: String,
@@ -434,6 +438,7 @@ impl Default for IntegratorDesc {
             transmittance: default_transmittance(),
             equiangular: true,
             forced_scattering: None,
+            sun_lobe: None,
             sampler: default_sampler(),
             photons: None,
             radius: None,

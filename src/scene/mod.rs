@@ -38,6 +38,7 @@ mod vdb_grids;
 mod vol;
 
 use crate::error::{Error, Result};
+use crate::integrator::sun_lobe::{self, SunLobe};
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
 use crate::sampling::SamplerKind;
@@ -513,6 +514,7 @@ pub fn build_frame_cached(
         settings.forced_scattering =
             !camera_in_a_medium(&media, &camera) && !lights.iter().any(|l| l.is_infinite());
     }
+    settings.sun_lobe = SunLobe::choose(sun_lobe_share(desc, &check)?, &lights);
     let scene = Scene {
         camera,
         geometry: shapes.geometry,
@@ -527,6 +529,15 @@ pub fn build_frame_cached(
         aovs: build_aovs(&desc.film.aovs, &check)?,
     };
     Ok((scene, check.take_warnings()))
+}
+
+/// `integrator.sun_lobe`: the sun lobe's share of the first medium
+/// scatterings' continuations ([`SunLobe`]), 0 to [`sun_lobe::MAX_SHARE`].
+fn sun_lobe_share(desc: &SceneDesc, check: &Check) -> Result<f32> {
+    match desc.integrator.sun_lobe {
+        Some(v) => check.range("integrator.sun_lobe", v, 0.0, sun_lobe::MAX_SHARE, true),
+        None => Ok(sun_lobe::DEFAULT_SHARE),
+    }
 }
 
 /// Whether the camera sits inside a medium (at time 0). Such a medium (an
@@ -595,6 +606,7 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
         seed: integ.seed,
         equiangular: integ.equiangular,
         forced_scattering: integ.forced_scattering.unwrap_or(true),
+        sun_lobe: None,
         shutter,
         transmittance: match integ.transmittance.as_str() {
             "auto" => TransmittanceEstimator::Auto,
