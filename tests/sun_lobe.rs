@@ -66,6 +66,34 @@ fn the_lobe_leaves_the_expectation_and_lowers_the_error_in_a_forward_ball() {
     }
 }
 
+/// A white furnace: a non-absorbing HG 0.8 ball in a uniform sky of
+/// radiance 1, with a faint sun that only aims the lobe, is exactly 1 with
+/// the largest share. The sky seen through the lobe's directions is counted
+/// once only if its light samples and its phase-sampled escapes weigh each
+/// other by the mixture's density (seen failing by 8 σ with the light
+/// samples weighed by the phase density alone).
+#[test]
+fn a_white_ball_in_a_uniform_sky_stays_one_with_the_widest_lobe() {
+    let eye = Vec3::new(0.0, 0.5, 6.0);
+    let text = SceneText::view([0.0, 0.5, 6.0], [0.0, 1.0, 0.0])
+        .integrator("max_depth = 1000\nsun_lobe = 0.5")
+        .sun([0.2, -0.5, 0.8], 1e-6)
+        .environment(1.0)
+        .medium(
+            "type = \"homogeneous\"\nsigma_t = 1.0\nalbedo = 1.0\n\
+             phase = { type = \"hg\", g = 0.8 }\n\
+             bounds = { type = \"sphere\", center = [0.0, 1.2, 0.0], radius = 1.0 }",
+        )
+        .build();
+    let scene = scene_from_str(&text);
+    assert!(scene.settings.sun_lobe.is_some());
+    for target in [Vec3::new(0.0, 1.2, 0.0), Vec3::new(0.7, 1.8, 0.0)] {
+        let ray = Ray::new(eye, (target - eye).normalize());
+        let est = estimate_ray(&scene, ray, 1_000_000, 4);
+        assert_estimate(&est, [1.0; 3], &format!("toward {target:?}"));
+    }
+}
+
 /// On by default under a sun (with or without a disk); off without one or
 /// with the key at 0; out-of-range shares are refused naming the key.
 #[test]
