@@ -596,12 +596,7 @@ fn scatter_in_segment(
     };
     let alpha = guiding::phase_fraction(&properties.phase);
     let mixed = tree.map(|t| (t, alpha));
-    // A forced point's light sample weighs against the phase density alone.
-    let lobe = match tree.is_none() && path.log.is_none() && !forced {
-        true => scene.settings.sun_lobe,
-        false => None,
-    }
-    .filter(|l| l.applies(&properties.phase, path.scatter_depth));
+    let lobe = sun_lobe_at(scene, path, &properties.phase, (tree.is_some(), forced));
     // Forced in-scattering sampled this segment's light already (module `forced`).
     if !forced {
         path.radiance += path.throughput
@@ -634,6 +629,26 @@ fn scatter_in_segment(
         p,
         sampler,
     )
+}
+
+/// The sun lobe a medium vertex of `path` mixes into its continuation, if
+/// any: none where the vertex samples from a guide's mixture or its segment
+/// was forced (whose light sample weighs against the phase density alone),
+/// nor on a training path (its log records the guide's own densities).
+#[inline]
+fn sun_lobe_at(
+    scene: &Scene,
+    path: &PathState,
+    phase: &crate::medium::PhaseFunction,
+    (guided, forced): (bool, bool),
+) -> Option<sun_lobe::SunLobe> {
+    if guided || forced || path.log.is_some() {
+        return None;
+    }
+    scene
+        .settings
+        .sun_lobe
+        .filter(|l| l.applies(phase, path.scatter_depth))
 }
 
 /// Next-event estimation at `vertex`, MIS-weighted against the mixture with
@@ -906,6 +921,38 @@ mod tests {
         });
         let ruled = PathState::new(&scene, ray, None, None, None);
         assert!(forced(&scene, &ruled, false).is_none());
+    }
+
+    /// Sun-lobe sampling runs at a plain path's first medium vertices in a
+    /// forward medium and stands aside for a guided or forced vertex, a
+    /// training path and vertices past its depth.
+    #[test]
+    fn the_sun_lobe_stands_aside_for_guides_forced_segments_logs_and_depth() {
+        let text = "[camera]\nposition = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n\
+            [[light]]\ntype = \"sun\"\ndirection = [0.0, -1.0, 0.0]\nirradiance = 3.0\n\
+            [[medium]]\ntype = \"homogeneous\"\nsigma_t = 1.0\nalbedo = 0.9\n\
+            phase = { type = \"hg\", g = 0.8 }\n\
+            bounds = { type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }\n";
+        let file = std::path::Path::new("test.toml");
+        let desc = crate::scene::parse(text, file).expect("parse");
+        let scene = crate::scene::build(&desc, file, std::path::Path::new(".")).expect("build");
+        let phase = crate::medium::PhaseFunction::HenyeyGreenstein { g: 0.8 };
+        let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+        let mut plain = PathState::new(&scene, ray, None, None, None);
+        plain.scatter_depth = 1;
+        let lobe = |path: &PathState, guided: bool, forced: bool| {
+            sun_lobe_at(&scene, path, &phase, (guided, forced))
+        };
+        assert_eq!(lobe(&plain, false, false), scene.settings.sun_lobe);
+        assert!(lobe(&plain, false, false).is_some());
+        assert_eq!(lobe(&plain, true, false), None);
+        assert_eq!(lobe(&plain, false, true), None);
+        plain.scatter_depth = sun_lobe::SUN_LOBE_DEPTH + 1;
+        assert_eq!(lobe(&plain, false, false), None);
+        let mut log = PathLog::new();
+        let mut training = PathState::new(&scene, ray, None, None, Some(&mut log));
+        training.scatter_depth = 1;
+        assert_eq!(lobe(&training, false, false), None);
     }
 
     /// A walk of 255 events in a medium of albedo 0.99 (a cloud): every

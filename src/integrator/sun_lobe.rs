@@ -139,6 +139,10 @@ mod tests {
         assert_eq!(SunLobe::choose(0.1, &lights[2..]).unwrap().to_sun, Vec3::Z);
         assert_eq!(SunLobe::choose(0.0, &lights), None);
         assert_eq!(SunLobe::choose(0.1, &[]), None);
+        // A dark sun aims nothing; of two equal suns the first is kept.
+        assert_eq!(SunLobe::choose(0.1, &[sun(Vec3::Y, 0.0, 1.0)]), None);
+        let equal = [sun(Vec3::Y, 4.0, 1.0), sun(Vec3::X, 4.0, 1.0)];
+        assert_eq!(SunLobe::choose(0.1, &equal).unwrap().to_sun, Vec3::Y);
     }
 
     #[test]
