@@ -594,28 +594,24 @@ fn scatter_in_segment(
         phase: &properties.phase,
         equiangular: segment.map(|s| (s, t)),
     };
-    let alpha = guiding::phase_fraction(&properties.phase);
-    let mixed = tree.map(|t| (t, alpha));
-    let lobe = sun_lobe_at(scene, path, &properties.phase, (tree.is_some(), forced));
+    let phase = &properties.phase;
+    let mixture = match (
+        tree,
+        sun_lobe_at(scene, path, phase, (tree.is_some(), forced)),
+    ) {
+        (Some(tree), _) => MediumMixture::Guide(tree, guiding::phase_fraction(phase)),
+        (None, Some(lobe)) => MediumMixture::SunLobe(lobe),
+        (None, None) => MediumMixture::Phase,
+    };
     // Forced in-scattering sampled this segment's light already (module `forced`).
     if !forced {
+        let at = (path.ray.time, path.medium);
         path.radiance += path.throughput
-            * match lobe {
-                None => vertex_direct_light(scene, path, &vertex, mixed, sampler),
-                Some(l) => direct_light_mixed(
-                    scene,
-                    &vertex,
-                    (path.ray.time, path.medium),
-                    sampler,
-                    |d, pdf| l.mixture_pdf(&properties.phase, d, pdf),
-                ),
-            };
+            * direct_light_mixed(scene, &vertex, at, sampler, |d, pdf| {
+                mixture.pdf(phase, d, pdf)
+            });
     }
-    let sampled = match lobe {
-        None => scatter_in_medium(tree, &properties.phase, path.ray.direction, sampler),
-        Some(l) => l.sample(&properties.phase, path.ray.direction, sampler),
-    };
-    let Some((dir, weight, pdf)) = sampled else {
+    let Some((dir, weight, pdf)) = mixture.sample(phase, path.ray.direction, sampler) else {
         return Step::Stop;
     };
     path.throughput *= weight;
@@ -673,25 +669,50 @@ fn vertex_direct_light(
     }
 }
 
-/// A medium collision's continuation: direction, weight and density, from
-/// the phase function or its mixture with the guide's `tree`.
-/// `None` ends the path.
-#[inline]
-fn scatter_in_medium(
-    tree: Option<&guiding::dtree::DTree>,
-    phase: &crate::medium::PhaseFunction,
-    dir_in: Vec3,
-    sampler: &mut Sampler,
-) -> Option<(Vec3, Rgb, f32)> {
-    match tree {
-        None => {
-            let ps = phase.sample(dir_in, sampler.next_2d())?;
-            Some((ps.direction, Rgb::splat(ps.weight), ps.pdf))
+/// The density a medium collision draws its continuation from: the phase
+/// function alone, or its mixture with the guide's tree (share α) or with
+/// the sun's lobe. Next-event estimation weighs against the same density.
+#[derive(Clone, Copy)]
+enum MediumMixture<'a> {
+    /// The phase function alone.
+    Phase,
+    /// The guide's tree with share α.
+    Guide(&'a guiding::dtree::DTree, f32),
+    /// The lobe toward the sun (module [`sun_lobe`]).
+    SunLobe(sun_lobe::SunLobe),
+}
+
+impl MediumMixture<'_> {
+    /// The mixture's density at `d`, given the phase function's `phase_pdf` there.
+    #[inline]
+    fn pdf(&self, phase: &crate::medium::PhaseFunction, d: Vec3, phase_pdf: f32) -> f32 {
+        match *self {
+            MediumMixture::Phase => phase_pdf,
+            MediumMixture::Guide(tree, alpha) => guiding::mixture_pdf(tree, alpha, d, phase_pdf),
+            MediumMixture::SunLobe(lobe) => lobe.mixture_pdf(phase, d, phase_pdf),
         }
-        Some(tree) => {
-            let u_sel = sampler.next_1d();
-            let ms = guiding::sample_phase(tree, phase, dir_in, u_sel, sampler.next_2d())?;
-            Some((ms.dir, ms.weight, ms.pdf))
+    }
+
+    /// A continuation for a path arriving along `dir_in`: direction, weight
+    /// and density. `None` ends the path.
+    #[inline]
+    fn sample(
+        &self,
+        phase: &crate::medium::PhaseFunction,
+        dir_in: Vec3,
+        sampler: &mut Sampler,
+    ) -> Option<(Vec3, Rgb, f32)> {
+        match *self {
+            MediumMixture::Phase => {
+                let ps = phase.sample(dir_in, sampler.next_2d())?;
+                Some((ps.direction, Rgb::splat(ps.weight), ps.pdf))
+            }
+            MediumMixture::Guide(tree, _) => {
+                let u_sel = sampler.next_1d();
+                let ms = guiding::sample_phase(tree, phase, dir_in, u_sel, sampler.next_2d())?;
+                Some((ms.dir, ms.weight, ms.pdf))
+            }
+            MediumMixture::SunLobe(lobe) => lobe.sample(phase, dir_in, sampler),
         }
     }
 }
