@@ -125,7 +125,7 @@ fn shadow_transmittance(
     }
 }
 
-/// Next-event estimation from `vertex` to one light picked by `Scene::light_pick`, at the path's `time`.
+/// Next-event estimation from `vertex` to one light picked by `Scene::nee_pick`, at the path's `time`.
 ///
 /// Shadow rays carry the media's transmittance. The sample is MIS-weighted
 /// against the BSDF/phase sampling that every vertex also does.
@@ -150,7 +150,7 @@ pub(super) fn direct_light_mixed(
 ) -> Rgb {
     let pick = sampler.next_1d();
     let u = sampler.next_2d();
-    let Some(index) = scene.light_pick.sample(pick) else {
+    let Some(index) = scene.nee_pick.sample(pick) else {
         return Rgb::BLACK;
     };
     let light = &scene.lights[index];

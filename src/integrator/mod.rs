@@ -119,6 +119,10 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// How next-event estimation picks one of `lights` (by power; see `light::LightPick`).
     pub light_pick: LightPick,
+    /// How the path tracer's next-event estimation picks one of `lights`: as
+    /// `light_pick`, with a smooth sky beside other lights asked less
+    /// (`light::environment_share`); every MIS weight of the path tracer uses it.
+    pub nee_pick: LightPick,
     /// All participating media (they overlap additively, unless `interfaces` says which one a ray is in).
     pub media: Vec<Medium>,
     /// Mitsuba's rule for the medium a ray is in (imported scenes that need it; `None`: containment).
@@ -130,10 +134,10 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Probability that next-event estimation picks light `index`.
+    /// Probability that the path tracer's next-event estimation picks light `index`.
     #[inline]
     fn light_pick_probability(&self, index: usize) -> f32 {
-        self.light_pick.pmf(index)
+        self.nee_pick.pmf(index)
     }
 
     /// The material at `hit`: the shape's, its colour looked up in the shape's texture.

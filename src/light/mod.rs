@@ -16,7 +16,7 @@ mod moving;
 mod pick;
 mod sphere;
 pub use emission::{EmissionSample, SceneSphere};
-pub use pick::{LightPick, UNIFORM_SHARE};
+pub use pick::{environment_share, LightPick, MAX_ENVIRONMENT_SHARE, UNIFORM_SHARE};
 use sphere::Cone;
 
 /// Radiance arriving from the sky in a direction, for environments.

@@ -16,9 +16,46 @@
 //! a room the sun cannot reach — from being starved: no light's probability
 //! falls below [`UNIFORM_SHARE`] / N, so no estimate's variance grows by
 //! more than N / share over a uniform pick.
+//!
+//! The path tracer asks a constant or sky environment less than its power
+//! says ([`environment_share`]): from a diffuse surface such a sky is
+//! sampled with the BSDF's own cosine density, and in a medium the phase
+//! function samples a smooth sky at least as well as uniform directions, so
+//! the light sample only repeats what the continuation ray already gathers
+//! (MIS gives that ray weight 1 when the sky is never asked), while every
+//! sample spent on the sky is a sample the sun does not get. Bidirectional
+//! strategies keep the pick by power: their light subpaths start from it.
 
 /// The part of the pick that stays uniform over the lights.
 pub const UNIFORM_SHARE: f32 = 0.1;
+
+/// The largest share [`environment_share`] gives a sky: the other lights
+/// keep at least the uniform share (only light samples find a delta light).
+pub const MAX_ENVIRONMENT_SHARE: f32 = 1.0 - 0.5 * UNIFORM_SHARE;
+
+/// The probability with which the path tracer's next-event estimation asks
+/// a constant or sky environment of power `environment` beside other lights
+/// of total power `rest`: max(0, (E − R) / (E + R)), at most
+/// [`MAX_ENVIRONMENT_SHARE`].
+///
+/// Why: at a diffuse vertex lit by a sky of contribution K and other lights
+/// of contribution S, asking the sky with probability p costs the other
+/// lights' estimate a variance S² p / (1 − p) (the samples they miss) and
+/// gives the sky's a second cosine sample a fraction p of the time, its
+/// variance σ² / (1 + p). The sum is least at (1 + p) / (1 − p) = σ / S; with
+/// σ ≈ K (a partly hidden sky's visibility, relative deviation about 1) that
+/// is p = (K − S) / (K + S), and the powers stand in for K and S. No other
+/// light's power (R = 0): the sky nearly always; a sun brighter than the sky
+/// (B3, B4, clouds): never, the sky then comes from the continuation rays.
+pub fn environment_share(environment: f32, rest: f32) -> f32 {
+    let (e, r) = (environment.max(0.0), rest.max(0.0));
+    let share = match e + r {
+        total if total > 0.0 && total.is_finite() => (e - r) / total,
+        _ if r > 0.0 => 0.0,
+        _ => 1.0,
+    };
+    share.clamp(0.0, MAX_ENVIRONMENT_SHARE)
+}
 
 /// A discrete distribution over the scene's lights.
 #[derive(Clone, Debug, Default)]
@@ -57,6 +94,35 @@ impl LightPick {
                 false => uniform,
             } as f32)
             .collect();
+        LightPick::from_pmf(pmf)
+    }
+
+    /// The pick of [`LightPick::new`] except that light `fixed` is asked with
+    /// probability `share` (clamped to [0, 1]; the only light is always
+    /// asked): the other lights split the rest as `new` splits it among them.
+    pub fn with_fixed_share(power: &[f32], fixed: usize, share: f32) -> LightPick {
+        if power.len() <= 1 || fixed >= power.len() {
+            return LightPick::new(power);
+        }
+        let share = share.clamp(0.0, 1.0);
+        let others: Vec<f32> = (0..power.len())
+            .filter(|&i| i != fixed)
+            .map(|i| power[i])
+            .collect();
+        let rest = LightPick::new(&others);
+        let pmf = (0..power.len())
+            .map(|i| match i.cmp(&fixed) {
+                std::cmp::Ordering::Less => (1.0 - share) * rest.pmf[i],
+                std::cmp::Ordering::Equal => share,
+                std::cmp::Ordering::Greater => (1.0 - share) * rest.pmf[i - 1],
+            })
+            .collect();
+        LightPick::from_pmf(pmf)
+    }
+
+    /// The pick with probabilities `pmf` (summing to 1).
+    fn from_pmf(pmf: Vec<f32>) -> LightPick {
+        let n = pmf.len();
         let mut cdf = Vec::with_capacity(n + 1);
         let mut acc = 0.0f64;
         cdf.push(0.0);
@@ -108,6 +174,47 @@ mod tests {
         }
         let sum: f32 = (0..4).map(|i| pick.pmf(i)).sum();
         assert!((sum - 1.0).abs() < 1e-6);
+    }
+
+    /// A fixed share: that light gets exactly it, the others split the rest
+    /// by power with the uniform share among them, and sampling never lands
+    /// on a light of probability 0 (first, middle or last).
+    #[test]
+    fn a_fixed_share_leaves_the_rest_to_the_others_by_power() {
+        let pick = LightPick::with_fixed_share(&[3.0, 9.0, 1.0], 1, 0.2);
+        let rest = [0.9 * 0.75 + 0.05, 0.9 * 0.25 + 0.05];
+        let expected = [0.8 * rest[0], 0.2, 0.8 * rest[1]];
+        for (i, e) in expected.iter().enumerate() {
+            assert!(
+                (pick.pmf(i) - e).abs() < 1e-6,
+                "{i}: {} vs {e}",
+                pick.pmf(i)
+            );
+        }
+        for fixed in 0..3 {
+            let pick = LightPick::with_fixed_share(&[3.0, 9.0, 1.0], fixed, 0.0);
+            assert_eq!(pick.pmf(fixed), 0.0);
+            let n = 10_000;
+            let hits = (0..n)
+                .filter(|k| pick.sample((*k as f32 + 0.5) / n as f32) == Some(fixed))
+                .count();
+            assert_eq!(hits, 0, "light {fixed} of probability 0 was picked");
+        }
+        assert_eq!(LightPick::with_fixed_share(&[2.0, 1.0], 0, 1.5).pmf(0), 1.0);
+        assert_eq!(LightPick::with_fixed_share(&[2.0], 0, 0.0).pmf(0), 1.0);
+    }
+
+    #[test]
+    fn the_sky_is_asked_only_when_it_outshines_the_other_lights() {
+        assert_eq!(environment_share(1.0, 0.0), MAX_ENVIRONMENT_SHARE);
+        assert_eq!(environment_share(100.0, 1.0), MAX_ENVIRONMENT_SHARE);
+        assert_eq!(environment_share(0.314, 4.0), 0.0);
+        assert_eq!(environment_share(1.0, 1.0), 0.0);
+        assert!((environment_share(3.0, 1.0) - 0.5).abs() < 1e-6);
+        assert!((environment_share(9.0, 1.0) - 0.8).abs() < 1e-6);
+        assert_eq!(environment_share(0.0, 0.0), MAX_ENVIRONMENT_SHARE);
+        assert_eq!(environment_share(f32::INFINITY, 1.0), 0.0);
+        assert_eq!(environment_share(f32::NAN, 0.0), MAX_ENVIRONMENT_SHARE);
     }
 
     #[test]

@@ -374,6 +374,10 @@ pub struct IntegratorDesc {
     /// phase function's lobe toward the sun (default 0.1; 0 turns it off).
     #[serde(default)]
     pub sun_lobe: Option<f32>,
+    /// Probability that the path tracer's light samples ask a constant or sky
+    /// environment beside other lights (default: from the lights' powers).
+    #[serde(default)]
+    pub environment_share: Option<f32>,
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.
     #[serde(default = "default_sampler")]
     pub sampler: String,
@@ -439,6 +443,7 @@ impl Default for IntegratorDesc {
             equiangular: true,
             forced_scattering: None,
             sun_lobe: None,
+            environment_share: None,
             sampler: default_sampler(),
             photons: None,
             radius: None,

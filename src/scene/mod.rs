@@ -45,7 +45,7 @@ use crate::sampling::SamplerKind;
 use adaptive_keys::build_adaptive;
 use camera::build_camera;
 use description::SceneDesc;
-use lights::{build_lights, light_pick};
+use lights::{build_lights, light_pick, nee_pick, smooth_sky_beside_others};
 use mlt_keys::{build_mlt, warn_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
@@ -508,6 +508,20 @@ pub fn build_frame_cached(
     let media = build_media(desc, &check, base, &timing, shapes.interiors)?;
     let interfaces = interfaces::build(desc, &check, &mut settings)?;
     let light_pick = light_pick(&lights, &shapes.geometry, &camera);
+    let share = environment_share_key(desc, &check)?;
+    if share.is_some() && matches!(desc.integrator.kind.as_str(), "bdpt" | "mlt") {
+        let message = format!(
+            "is a path-tracer setting, ignored by type = \"{}\" (its strategies pick lights by power)",
+            desc.integrator.kind
+        );
+        check.warn("integrator.environment_share", message);
+    } else if share.is_some() && smooth_sky_beside_others(&lights).is_none() {
+        check.warn(
+            "integrator.environment_share",
+            "has no effect: the scene has no constant or sky environment beside other lights",
+        );
+    }
+    let nee_pick = nee_pick(&lights, &shapes.geometry, &camera, share);
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
     settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
     if desc.integrator.forced_scattering.is_none() {
@@ -523,6 +537,7 @@ pub fn build_frame_cached(
         shape_lights,
         lights,
         light_pick,
+        nee_pick,
         media,
         interfaces,
         settings,
@@ -538,6 +553,26 @@ fn sun_lobe_share(desc: &SceneDesc, check: &Check) -> Result<f32> {
         Some(v) => check.range("integrator.sun_lobe", v, 0.0, sun_lobe::MAX_SHARE, true),
         None => Ok(sun_lobe::DEFAULT_SHARE),
     }
+}
+
+/// `integrator.environment_share`: a fixed probability in [0, 1) for the
+/// path tracer's light samples to ask a constant or sky environment, or
+/// `None` (absent) for the rule of [`crate::light::environment_share`].
+fn environment_share_key(desc: &SceneDesc, check: &Check) -> Result<Option<f32>> {
+    desc.integrator
+        .environment_share
+        .map(|v| {
+            let v = check.range("integrator.environment_share", v, 0.0, 1.0, true)?;
+            // 1 would leave the other lights (a delta sun) without light samples.
+            match v < 1.0 {
+                true => Ok(v),
+                false => Err(check.error(
+                    "integrator.environment_share",
+                    "must be below 1: the other lights would get no light samples",
+                )),
+            }
+        })
+        .transpose()
 }
 
 /// Whether the camera sits inside a medium (at time 0). Such a medium (an
