@@ -153,7 +153,7 @@ fn the_sky_is_asked_by_the_rule_or_the_key() {
 }
 
 /// Out-of-range shares are refused naming the key; a share that can change
-/// nothing (no sky beside other lights; a bidirectional integrator) warns.
+/// nothing (no sky; a sky alone; a bidirectional integrator) warns.
 #[test]
 fn the_key_is_checked_and_warns_where_it_does_nothing() {
     for bad in [
@@ -188,6 +188,18 @@ fn the_key_is_checked_and_warns_where_it_does_nothing() {
             .iter()
             .any(|w| w.contains("integrator.environment_share") && w.contains("no effect")),
         "{warnings:?}"
+    );
+    let sky_alone = SceneText::view([0.0, 2.0, 5.0], [0.0, 0.5, 0.0])
+        .integrator("environment_share = 0.2")
+        .environment(0.1)
+        .quad([0.0; 3], [0.0, 1.0, 0.0], [4.0, 4.0])
+        .build();
+    let (_, warnings) = build(&sky_alone).expect("build");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("integrator.environment_share") && w.contains("no effect")),
+        "a sky alone: {warnings:?}"
     );
     let bdpt = sunlit_text("type = \"bdpt\"\nenvironment_share = 0.2", None);
     let (_, warnings) = build(&bdpt).expect("build");
