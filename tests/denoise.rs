@@ -9,8 +9,16 @@ mod common;
 
 use brume::film::image_io::read_exr_channels;
 
-/// A lit sphere on a plane, 64×48 pixels.
+/// A lit sphere on a plane, 64×48 pixels, whose 4-spp render is noisy.
+///
+/// Its light samples ask the sky about one time in eight
+/// (`environment_share`), missing the sun then: by default they all go to
+/// the sun, and 4 samples per pixel come within 1.5× of the denoiser's own
+/// error on an image this small (rmse 0.016 against 0.011), too clean to
+/// show what denoising is for. With the share: 0.053 before, 0.015 after.
 const SCENE: &str = r#"
+[integrator]
+environment_share = 0.12
 [camera]
 position = [0.0, 1.0, 4.0]
 look_at = [0.0, 0.5, 0.0]
