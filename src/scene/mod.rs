@@ -37,10 +37,13 @@ mod vdb_emission;
 mod vdb_grids;
 mod vol;
 
+use crate::camera::Camera;
 use crate::error::{Error, Result};
+use crate::geometry::Geometry;
 use crate::integrator::sun_lobe::{self, SunLobe};
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
+use crate::light::{Light, LightPick};
 use crate::sampling::SamplerKind;
 use adaptive_keys::build_adaptive;
 use camera::build_camera;
@@ -508,20 +511,7 @@ pub fn build_frame_cached(
     let media = build_media(desc, &check, base, &timing, shapes.interiors)?;
     let interfaces = interfaces::build(desc, &check, &mut settings)?;
     let light_pick = light_pick(&lights, &shapes.geometry, &camera);
-    let share = environment_share_key(desc, &check)?;
-    if share.is_some() && matches!(desc.integrator.kind.as_str(), "bdpt" | "mlt") {
-        let message = format!(
-            "is a path-tracer setting, ignored by type = \"{}\" (its strategies pick lights by power)",
-            desc.integrator.kind
-        );
-        check.warn("integrator.environment_share", message);
-    } else if share.is_some() && smooth_sky_beside_others(&lights).is_none() {
-        check.warn(
-            "integrator.environment_share",
-            "has no effect: the scene has no constant or sky environment beside other lights",
-        );
-    }
-    let nee_pick = nee_pick(&lights, &shapes.geometry, &camera, share);
+    let nee_pick = build_nee_pick(desc, &check, &lights, &shapes.geometry, &camera)?;
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
     settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
     if desc.integrator.forced_scattering.is_none() {
@@ -553,6 +543,31 @@ fn sun_lobe_share(desc: &SceneDesc, check: &Check) -> Result<f32> {
         Some(v) => check.range("integrator.sun_lobe", v, 0.0, sun_lobe::MAX_SHARE, true),
         None => Ok(sun_lobe::DEFAULT_SHARE),
     }
+}
+
+/// The path tracer's next-event pick ([`nee_pick`]) with the key
+/// `integrator.environment_share`, warning where the key can change nothing.
+fn build_nee_pick(
+    desc: &SceneDesc,
+    check: &Check,
+    lights: &[Light],
+    geometry: &Geometry,
+    camera: &Camera,
+) -> Result<LightPick> {
+    let share = environment_share_key(desc, check)?;
+    if share.is_some() && matches!(desc.integrator.kind.as_str(), "bdpt" | "mlt") {
+        let message = format!(
+            "is a path-tracer setting, ignored by type = \"{}\" (its strategies pick lights by power)",
+            desc.integrator.kind
+        );
+        check.warn("integrator.environment_share", message);
+    } else if share.is_some() && smooth_sky_beside_others(lights).is_none() {
+        check.warn(
+            "integrator.environment_share",
+            "has no effect: the scene has no constant or sky environment beside other lights",
+        );
+    }
+    Ok(nee_pick(lights, geometry, camera, share))
 }
 
 /// `integrator.environment_share`: a fixed probability in [0, 1) for the
