@@ -117,7 +117,7 @@ pub struct Scene {
     pub shape_lights: Vec<Option<u32>>,
     /// All lights.
     pub lights: Vec<Light>,
-    /// How next-event estimation picks one of `lights` (by power; see `light::LightPick`).
+    /// How bidirectional strategies (bdpt, mlt, sppm's photons) pick one of `lights`: by power (`light::LightPick`).
     pub light_pick: LightPick,
     /// How the path tracer's next-event estimation picks one of `lights`: as
     /// `light_pick`, with a smooth sky beside other lights asked less
