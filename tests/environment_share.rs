@@ -152,6 +152,17 @@ fn the_sky_is_asked_by_the_rule_or_the_key() {
     assert!((fixed.nee_pick.pmf(0) - 0.7).abs() < 1e-6);
 }
 
+/// The scene `text` builds with a warning about `integrator.environment_share` that says `needle`.
+fn assert_key_warns(text: &str, needle: &str, what: &str) {
+    let (_, warnings) = build(text).expect("build");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("integrator.environment_share") && w.contains(needle)),
+        "{what}: no warning saying {needle:?} in {warnings:?}"
+    );
+}
+
 /// Out-of-range shares are refused naming the key; a share that can change
 /// nothing (no sky; a sky alone; a bidirectional integrator) warns.
 #[test]
@@ -182,31 +193,13 @@ fn the_key_is_checked_and_warns_where_it_does_nothing() {
         !sun_only.contains("\"environment\""),
         "the sky's table moved"
     );
-    let (_, warnings) = build(&sun_only).expect("build");
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("integrator.environment_share") && w.contains("no effect")),
-        "{warnings:?}"
-    );
+    assert_key_warns(&sun_only, "no effect", "sun_only");
     let sky_alone = SceneText::view([0.0, 2.0, 5.0], [0.0, 0.5, 0.0])
         .integrator("environment_share = 0.2")
         .environment(0.1)
         .quad([0.0; 3], [0.0, 1.0, 0.0], [4.0, 4.0])
         .build();
-    let (_, warnings) = build(&sky_alone).expect("build");
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("integrator.environment_share") && w.contains("no effect")),
-        "a sky alone: {warnings:?}"
-    );
+    assert_key_warns(&sky_alone, "no effect", "sky_alone");
     let bdpt = sunlit_text("type = \"bdpt\"\nenvironment_share = 0.2", None);
-    let (_, warnings) = build(&bdpt).expect("build");
-    assert!(
-        warnings
-            .iter()
-            .any(|w| w.contains("integrator.environment_share") && w.contains("bdpt")),
-        "{warnings:?}"
-    );
+    assert_key_warns(&bdpt, "bdpt", "bdpt");
 }

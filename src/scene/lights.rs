@@ -48,9 +48,9 @@ pub(super) fn build_lights(
     Ok((lights, shape_lights))
 }
 
-/// The lights' powers for the pick, lights at infinity weighed over the
+/// The lights' powers for the picks, lights at infinity weighed over the
 /// scene's bounding sphere: the shapes, the camera and the point and spot lights.
-fn light_powers(lights: &[Light], geometry: &Geometry, camera: &Camera) -> Vec<f32> {
+pub(super) fn light_powers(lights: &[Light], geometry: &Geometry, camera: &Camera) -> Vec<f32> {
     let mut bounds = geometry.bounds().include(camera.view_at(0.0).position);
     for light in lights {
         if let Some(p) = light.point_position() {
@@ -66,11 +66,6 @@ fn light_powers(lights: &[Light], geometry: &Geometry, camera: &Camera) -> Vec<f
     lights.iter().map(|l| l.power(radius)).collect()
 }
 
-/// The light pick by power (bidirectional strategies' light subpaths and connections).
-pub(super) fn light_pick(lights: &[Light], geometry: &Geometry, camera: &Camera) -> LightPick {
-    LightPick::new(&light_powers(lights, geometry, camera))
-}
-
 /// The index of a constant or sky environment when the scene has other lights too.
 pub(super) fn smooth_sky_beside_others(lights: &[Light]) -> Option<usize> {
     let sky = lights.iter().position(|l| {
@@ -82,28 +77,23 @@ pub(super) fn smooth_sky_beside_others(lights: &[Light]) -> Option<usize> {
     (lights.len() > 1).then_some(sky)
 }
 
-/// The path tracer's next-event pick: by power, except that a constant or
-/// sky environment beside other lights is asked with probability `share`
-/// (`integrator.environment_share`), by default [`environment_share`] of
-/// the powers. An image map keeps its share by power (its importance
-/// sampling finds a bright sun in it; scattering sampling would not).
-pub(super) fn nee_pick(
-    lights: &[Light],
-    geometry: &Geometry,
-    camera: &Camera,
-    share: Option<f32>,
-) -> LightPick {
-    let power = light_powers(lights, geometry, camera);
-    match smooth_sky_beside_others(lights) {
+/// The path tracer's next-event pick over lights of powers `power`: by
+/// power, except that `sky` (from [`smooth_sky_beside_others`]) is asked
+/// with probability `share` (`integrator.environment_share`), by default
+/// [`environment_share`] of the powers. An image map keeps its share by
+/// power (its importance sampling finds a bright sun in it; scattering
+/// sampling would not).
+pub(super) fn nee_pick(power: &[f32], sky: Option<usize>, share: Option<f32>) -> LightPick {
+    match sky {
         Some(sky) => {
             let rest: f32 = (0..power.len())
                 .filter(|&i| i != sky)
                 .map(|i| power[i])
                 .sum();
             let share = share.unwrap_or_else(|| environment_share(power[sky], rest));
-            LightPick::with_fixed_share(&power, sky, share)
+            LightPick::with_fixed_share(power, sky, share)
         }
-        _ => LightPick::new(&power),
+        None => LightPick::new(power),
     }
 }
 

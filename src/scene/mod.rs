@@ -37,9 +37,7 @@ mod vdb_emission;
 mod vdb_grids;
 mod vol;
 
-use crate::camera::Camera;
 use crate::error::{Error, Result};
-use crate::geometry::Geometry;
 use crate::integrator::sun_lobe::{self, SunLobe};
 use crate::integrator::tracking::MAX_OVERLAPPING_MEDIA;
 use crate::integrator::{IntegratorKind, Scene, Settings, TransmittanceEstimator};
@@ -48,7 +46,7 @@ use crate::sampling::SamplerKind;
 use adaptive_keys::build_adaptive;
 use camera::build_camera;
 use description::SceneDesc;
-use lights::{build_lights, light_pick, nee_pick, smooth_sky_beside_others};
+use lights::{build_lights, light_powers, nee_pick, smooth_sky_beside_others};
 use mlt_keys::{build_mlt, warn_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
@@ -510,8 +508,9 @@ pub fn build_frame_cached(
         build_lights(desc, &check, base, &shapes.geometry, shapes.emissions)?;
     let media = build_media(desc, &check, base, &timing, shapes.interiors)?;
     let interfaces = interfaces::build(desc, &check, &mut settings)?;
-    let light_pick = light_pick(&lights, &shapes.geometry, &camera);
-    let nee_pick = build_nee_pick(desc, &check, &lights, &shapes.geometry, &camera)?;
+    let power = light_powers(&lights, &shapes.geometry, &camera);
+    let light_pick = LightPick::new(&power);
+    let nee_pick = build_nee_pick(desc, &check, &lights, &power)?;
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
     settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
     if desc.integrator.forced_scattering.is_none() {
@@ -545,29 +544,30 @@ fn sun_lobe_share(desc: &SceneDesc, check: &Check) -> Result<f32> {
     }
 }
 
-/// The path tracer's next-event pick ([`nee_pick`]) with the key
-/// `integrator.environment_share`, warning where the key can change nothing.
+/// The path tracer's next-event pick ([`nee_pick`]) over `lights` of
+/// powers `power`, with the key `integrator.environment_share`, warning
+/// where the key can change nothing.
 fn build_nee_pick(
     desc: &SceneDesc,
     check: &Check,
     lights: &[Light],
-    geometry: &Geometry,
-    camera: &Camera,
+    power: &[f32],
 ) -> Result<LightPick> {
     let share = environment_share_key(desc, check)?;
+    let sky = smooth_sky_beside_others(lights);
     if share.is_some() && matches!(desc.integrator.kind.as_str(), "bdpt" | "mlt") {
         let message = format!(
             "is a path-tracer setting, ignored by type = \"{}\" (its strategies pick lights by power)",
             desc.integrator.kind
         );
         check.warn("integrator.environment_share", message);
-    } else if share.is_some() && smooth_sky_beside_others(lights).is_none() {
+    } else if share.is_some() && sky.is_none() {
         check.warn(
             "integrator.environment_share",
             "has no effect: the scene has no constant or sky environment beside other lights",
         );
     }
-    Ok(nee_pick(lights, geometry, camera, share))
+    Ok(nee_pick(power, sky, share))
 }
 
 /// `integrator.environment_share`: a fixed probability in [0, 1) for the
