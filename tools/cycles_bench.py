@@ -155,10 +155,11 @@ def cycles_worker(args):
                       "settings": recorded}))
 
 
-def run_cycles(key, resolution, spp, threads, seed, mode, work, seconds=0.0):
+def run_cycles(key, resolution, spp, threads, seed, mode, work, seconds=0.0, desc=None):
+    """Cycles renders scene `key` (or `desc`, a changed copy of its table entry) in a worker process."""
     guiding, adaptive = mode
     spec = work / f"{key}-cycles.json"
-    desc = json.loads(json.dumps(bench.SCENES[key]))
+    desc = json.loads(json.dumps(bench.SCENES[key] if desc is None else desc))
     for light in desc["lights"]:
         if "file" in light:
             light["path"] = str(REPO / light["file"])

@@ -16,7 +16,6 @@ compared order by order of scattering:
         --set integrator.max_depth=1
 """
 import json
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -26,7 +25,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import bench  # noqa: E402
 import cycles_bench  # noqa: E402
-from exr_numpy import read_rgb  # noqa: E402
+from seed_noise import noise_per_sample  # noqa: E402
 
 
 def main():
@@ -39,27 +38,15 @@ def main():
     # cycles_scene.build gives Cycles the table's max_depth - 1 bounces; Cycles' bounce 0
     # is the light sampled at the first scattering event, so that is brume's DEPTH events.
     desc["max_depth"] = depth
-    images, seconds = [], []
+    res = [int(x) for x in resolution.split(",")]
     with tempfile.TemporaryDirectory() as tmp:
-        spec = Path(tmp) / "spec.json"
-        spec.write_text(json.dumps(desc))
-        for seed in (1, 2):
-            out = Path(tmp) / f"seed{seed}.exr"
-            cmd = [sys.executable, str(Path(__file__).resolve().parent / "cycles_bench.py"),
-                   "cycles-worker", "--spec", str(spec), "--out", str(out), "--spp", str(spp),
-                   "--seconds", "0", "--threads", "2", "--seed", str(seed),
-                   "--resolution", resolution]
-            vdb = cycles_bench.vdb_path(key)
-            if vdb:
-                cmd += ["--vdb", vdb]
-            run = subprocess.run(cmd, check=True, capture_output=True, text=True)
-            seconds.append(json.loads(run.stdout.strip().splitlines()[-1])["seconds"])
-            images.append(read_rgb(out).astype(np.float64))
-    a, b = images
-    mean = 0.5 * (a + b).mean()
-    var = ((a - b) ** 2).mean() / 2
-    print(f"cycles {key} max_depth {depth}: mean {mean:.5f}  noise per sample "
-          f"{np.sqrt(var * spp) / mean:.4f}  render loop {np.median(seconds):.2f} s")
+        runs = [cycles_bench.run_cycles(key, res, spp, 2, seed, (False, False), Path(tmp), desc=desc)
+                for seed in (1, 2)]
+    a, b = (r["image"].astype(np.float64) for r in runs)
+    mean, noise = noise_per_sample(a, b, spp)
+    seconds = np.median([r["seconds"] for r in runs])
+    print(f"cycles {key} max_depth {depth}: mean {mean:.5f}  noise per sample {noise:.4f}  "
+          f"render loop {seconds:.2f} s")
 
 
 if __name__ == "__main__":

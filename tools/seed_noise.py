@@ -24,6 +24,13 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from exr_numpy import read_rgb  # noqa: E402
 
 
+def noise_per_sample(a, b, spp):
+    """Image mean and relative noise per sample of two renders of `spp` samples with other seeds."""
+    mean = 0.5 * (a + b).mean()
+    var = ((a - b) ** 2).mean() / 2
+    return mean, np.sqrt(var * spp) / mean
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
@@ -40,10 +47,8 @@ def main():
             times.append(time.time() - start)
             images.append(read_rgb(out).astype(np.float64))
     a, b = images
-    mean = 0.5 * (a + b).mean()
-    var = ((a - b) ** 2).mean() / 2
-    print(f"mean {mean:.5f}  noise per sample {np.sqrt(var * int(spp)) / mean:.4f}  "
-          f"time {np.median(times):.2f} s")
+    mean, noise = noise_per_sample(a, b, int(spp))
+    print(f"mean {mean:.5f}  noise per sample {noise:.4f}  time {np.median(times):.2f} s")
     d = np.sort(((a - b) ** 2).sum(axis=2).ravel())
     shares = [d[-max(1, len(d) // k):].sum() / d.sum() for k in (1000, 100, 10)]
     print("share of the variance in the noisiest 0.1 % / 1 % / 10 % of pixels: "
