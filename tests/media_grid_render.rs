@@ -218,6 +218,20 @@ fn vdb_errors_name_file_grid_and_field() {
     );
     let e = build_error("file = \"volumes/smoke_plume.vdb\"\nmajorant = \"tight\"");
     assert!(e.contains("medium[0].majorant"), "{e}");
+    for (cell, why) in [
+        ("0", "1 to 65536"),
+        ("70000", "1 to 65536"),
+        ("2\nmajorant = \"global\"", "majorant = \"grid\""),
+        ("\"fine\"", "majorant_cell"),
+    ] {
+        let e = build_error(&format!(
+            "file = \"volumes/smoke_plume.vdb\"\nmajorant_cell = {cell}"
+        ));
+        assert!(
+            e.contains("medium[0].majorant_cell") && e.contains(why),
+            "majorant_cell = {cell}: {e}"
+        );
+    }
     let e = build_error("file = \"volumes/smoke_plume.vdb\"\ndensity_scale = -1.0");
     assert!(e.contains("medium[0].density_scale"), "{e}");
     let e = build_error("file = \"volumes/smoke_plume.vdb\"\ndensity = 1.0");
@@ -226,6 +240,23 @@ fn vdb_errors_name_file_grid_and_field() {
         "file = \"volumes/smoke_plume.vdb\"\nemission = 1.0\ntemperature_grid = \"temperature\"",
     );
     assert!(e.contains("at most one"), "{e}");
+}
+
+/// `majorant_cell` fixes the majorant grid's cells; without it the medium chooses.
+#[test]
+fn majorant_cell_sets_the_cell_size() {
+    let medium = |extra: &str| {
+        let scene = scene_from_str(&format!(
+            "[camera]\nposition = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n[[medium]]\ntype = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\n{extra}\n"
+        ));
+        let Medium::Grid(m) = &scene.media[0] else {
+            panic!("a grid medium")
+        };
+        m.majorant_grid().cell_size()
+    };
+    assert_eq!(medium("majorant_cell = 3"), Vec3::splat(3.0));
+    assert_eq!(medium("majorant_cell = 7"), Vec3::splat(7.0));
+    assert_ne!(medium(""), Vec3::splat(7.0));
 }
 
 /// The smoke plume's temperature grid loads and drives the blackbody emission.

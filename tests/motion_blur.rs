@@ -62,14 +62,6 @@ fn plume_scene(extra_medium: &str, shutter: Option<&str>) -> String {
 
 #[test]
 fn a_vdb_with_zero_velocity_renders_bit_identically_with_a_shutter() {
-    let mut still = scene_from_str(&plume_scene("", None));
-    // Moving media always take null collisions (exact voxel walks need a straight
-    // lookup line): compare with the still medium tracked the same way.
-    if let brume::medium::Medium::Grid(g) = &still.media[0] {
-        let mut g = (**g).clone();
-        g.set_exact_voxels(brume::medium::ExactVoxels::Never);
-        still.media[0] = brume::medium::Medium::Grid(std::sync::Arc::new(g));
-    }
     let zero = scene_from_str(&plume_scene(
         "velocity_grid = \"vel\"\nvelocity_scale = 0.0",
         Some("[-0.5, 0.5]"),
@@ -78,6 +70,16 @@ fn a_vdb_with_zero_velocity_renders_bit_identically_with_a_shutter() {
         panic!("grid medium")
     };
     assert!(m.is_moving(), "the motion path must be the one tested");
+    // Moving media always take null collisions (exact voxel walks need a straight
+    // lookup line) over cells chosen for that: compare with the still medium
+    // tracked the same way, over the same cells.
+    let cell = m.majorant_grid().cell_size().x;
+    let mut still = scene_from_str(&plume_scene(&format!("majorant_cell = {cell}"), None));
+    if let brume::medium::Medium::Grid(g) = &still.media[0] {
+        let mut g = (**g).clone();
+        g.set_exact_voxels(brume::medium::ExactVoxels::Never);
+        still.media[0] = brume::medium::Medium::Grid(std::sync::Arc::new(g));
+    }
     let a = sample_bits(&still, 4);
     assert!(a.iter().any(|s| s != &[0, 0, 0]));
     assert_eq!(a, sample_bits(&zero, 4));

@@ -658,14 +658,20 @@ mod tests {
     }
 
     /// The cells a medium gets: a 32nd of the trilinear support (225 voxels
-    /// for a row of 224: 8) where dense cells are walked exactly (grey σt),
-    /// else no more than 8 / (peak σt per voxel) voxels: 2 at a peak of
-    /// 2 · 16 · 0.1 = 3.2, the default again at a peak of 0.04.
+    /// for a row of 224: 8), no more than 3 / (peak σt per voxel) voxels
+    /// but at least 2 where dense cells are walked exactly (grey σt: 3 at a
+    /// peak of 2 · 5 · 0.1 = 1, 2 at 1.6 and above), else no more than 8 /
+    /// (peak σt per voxel) voxels: 2 at a peak of 2 · 16 · 0.1 = 3.2, the
+    /// default again at a peak of 0.04.
     #[test]
     fn a_medium_gets_the_cells_its_tracking_needs() {
         let values: Vec<f32> = (0..224).map(|i| 1.0 + (i % 2) as f32).collect();
         let cases = [
-            (Rgb::WHITE, 8.0, 8.0),
+            (Rgb::WHITE, 0.1, 8.0),
+            (Rgb::WHITE, 1.8, 8.0),
+            (Rgb::WHITE, 5.0, 3.0),
+            (Rgb::WHITE, 8.0, 2.0),
+            (Rgb::WHITE, 1000.0, 2.0),
             (Rgb::new(1.0, 1.0, 2.0), 8.0, 2.0),
             (Rgb::new(1.0, 1.0, 2.0), 0.1, 8.0),
         ];

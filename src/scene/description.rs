@@ -1113,6 +1113,9 @@ pub struct VdbDesc {
     /// `"grid"` (default) or `"global"`.
     #[serde(default)]
     pub majorant: Option<String>,
+    /// Majorant cell size in voxels (default: from the volume's size and density).
+    #[serde(default)]
+    pub majorant_cell: Option<u32>,
     /// Name of a vec3s velocity grid (file world units per second) for motion blur.
     #[serde(default)]
     pub velocity_grid: Option<String>,

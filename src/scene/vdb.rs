@@ -14,6 +14,7 @@
 //! temperature_scale = 1000.0            # kelvin per unit of grid value
 //! emission_scale = 1.0                  # multiplies Le
 //! majorant = "grid"                     # or "global"
+//! majorant_cell = 4                     # cell size in voxels (default: chosen)
 //! velocity_grid = "vel"                 # vec3s velocity (units/s) for motion blur
 //! velocity_scale = 1.0                  # multiplies the velocities
 //! ```
@@ -88,7 +89,7 @@ pub(crate) fn build_vdb_medium(
         phase: build_phase(desc.phase.as_ref(), field, check)?,
         emission,
         majorant: scales.majorant,
-        cell_size: None,
+        cell_size: scales.cell,
     };
     let medium = GridMedium::try_new_moving(density, params, motion)
         .map_err(|e| majorant_error(desc, field, check, timing, &e))?;
@@ -101,9 +102,14 @@ struct VdbScales {
     sigma_t_scale: Rgb,
     albedo: Rgb,
     majorant: MajorantMode,
+    /// `majorant_cell`: the majorant cell size in voxels, if the scene fixes it.
+    cell: Option<i32>,
 }
 
-/// Reads `density_scale`, `sigma_t_scale`, `albedo` and `majorant` (defaults when absent).
+/// Largest `majorant_cell` (voxels): one cell then spans any volume a file can hold.
+const MAX_MAJORANT_CELL: u32 = 1 << 16;
+
+/// Reads `density_scale`, `sigma_t_scale`, `albedo`, `majorant` and `majorant_cell` (defaults when absent).
 fn build_scales(desc: &VdbDesc, field: &str, check: &Check) -> Result<VdbScales> {
     let f = |name: &str| format!("{field}.{name}");
     let density_scale = check.finite(&f("density_scale"), desc.density_scale)?;
@@ -128,11 +134,13 @@ fn build_scales(desc: &VdbDesc, field: &str, check: &Check) -> Result<VdbScales>
             ))
         }
     };
+    let cell = build_majorant_cell(desc, &majorant, field, check)?;
     Ok(VdbScales {
         density_scale,
         sigma_t_scale,
         albedo,
         majorant,
+        cell,
     })
 }
 
@@ -158,6 +166,32 @@ fn check_source_term(
     )?;
     super::coefficients::warn_inert_emission(field, absorbing, check);
     Ok(())
+}
+
+/// The checked `majorant_cell` (1 to [`MAX_MAJORANT_CELL`] voxels, only with `majorant = "grid"`).
+fn build_majorant_cell(
+    desc: &VdbDesc,
+    majorant: &MajorantMode,
+    field: &str,
+    check: &Check,
+) -> Result<Option<i32>> {
+    let Some(n) = desc.majorant_cell else {
+        return Ok(None);
+    };
+    let key = format!("{field}.majorant_cell");
+    if !(1..=MAX_MAJORANT_CELL).contains(&n) {
+        return Err(check.error(
+            &key,
+            format!("must be 1 to {MAX_MAJORANT_CELL} voxels, got {n}"),
+        ));
+    }
+    if *majorant != MajorantMode::Grid {
+        return Err(check.error(
+            &key,
+            "needs majorant = \"grid\" (a global majorant has no cells)",
+        ));
+    }
+    Ok(Some(n as i32))
 }
 
 /// The error for a majorant grid over the memory limit, on the key that

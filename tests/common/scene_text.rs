@@ -173,8 +173,9 @@ pub fn vdb_box_medium(fields: &str) -> String {
 
 /// The albedo-1 VDB box furnaces every estimator is checked on: thin with
 /// HG, thick under a global majorant, chromatic σt with backward HG.
-pub const VDB_BOX_FURNACES: [&str; 3] = [
+pub const VDB_BOX_FURNACES: [&str; 4] = [
     "density_scale = 0.5\nphase = { type = \"hg\", g = 0.6 }",
     "density_scale = 8.0\nmajorant = \"global\"",
+    "density_scale = 8.0\nmajorant_cell = 1",
     "density_scale = 2.0\nsigma_t_scale = [1.0, 0.25, 3.0]\nphase = { type = \"hg\", g = -0.4 }",
 ];

@@ -24,6 +24,33 @@ pub fn default_cell_size(extent: IVec3) -> i32 {
 /// bound is the volume's maximum: past it the cells shrink (see `dense_cell_size`).
 const MAX_CELL_OPTICAL_DEPTH: f32 = 8.0;
 
+/// Most optical depth one majorant cell should span at the volume's peak
+/// extinction where dense cells are walked exactly (grey, still media).
+///
+/// Finer cells bound σ̄ closer to the density a ray meets, so fewer of its
+/// tentative collisions are null, at the cost of more DDA steps. Render
+/// time at 64 spp against cell size (2, 3, 4, 6, 8 voxels; BENCHMARKS.md,
+/// "Majorant cells for dense media"): the dense cloud (peak 1.6 per voxel)
+/// 1.33, 1.35, 1.40, 1.43, 1.52 s; the smoke at 3× its bench density (1.25)
+/// 1.32, 1.38, 1.43, 1.50, 1.60 s; the bench smoke itself (0.42) 0.79,
+/// 0.79, 0.80, 0.82, 0.85 s: a cell should span at most about 3 at the
+/// peak, and never less than 2 voxels (the trilinear support widens every
+/// cell by one).
+const DENSE_CELL_OPTICAL_DEPTH: f32 = 3.0;
+
+/// Fewest voxels a cell chosen by [`DENSE_CELL_OPTICAL_DEPTH`] spans.
+const MIN_DENSE_CELL: i32 = 2;
+
+/// The cell size (voxels) over which the peak extinction `peak_per_voxel`
+/// spans at most [`DENSE_CELL_OPTICAL_DEPTH`], at least [`MIN_DENSE_CELL`].
+fn exact_walk_cell_size(peak_per_voxel: f32) -> i32 {
+    if peak_per_voxel > 0.0 {
+        ((DENSE_CELL_OPTICAL_DEPTH / peak_per_voxel).floor().min(1e6) as i32).max(MIN_DENSE_CELL)
+    } else {
+        i32::MAX
+    }
+}
+
 /// Most cells a majorant grid may hold (two f32 bounds each, 32 MB).
 const MAX_MAJORANT_CELLS: f32 = (1 << 22) as f32;
 
@@ -76,7 +103,7 @@ pub(super) fn choose_cell_size(
                 .cell_size
                 .unwrap_or_else(|| {
                     let cell = match exact_walks {
-                        true => default_cell_size(extent),
+                        true => default_cell_size(extent).min(exact_walk_cell_size(peak)),
                         false => default_cell_size(extent).min(dense_cell_size(peak, extent)),
                     };
                     cell.max(memory_cell_size(hi - lo))
