@@ -3,8 +3,10 @@
 
 Scenes are described once, in tools/bench.py's parameter table format:
 the smoke plume (bench B3) and the homogeneous fog cube (B1) come from that
-table; the dense bright cloud and the diffuse ground under a uniform sky and
-under scenes/sky.exr are defined here in the same format (CYCLES_EXTRA). brume's scene files are written by bench.py's
+table; the dense bright cloud, the diffuse ground under a uniform sky and
+under scenes/sky.exr, and variants of the smoke (denser; lit from behind)
+and of the cloud (lit from behind) that no tuning used, as checks on the
+held-out goal, are defined here in the same format (CYCLES_EXTRA). brume's scene files are written by bench.py's
 `brume_toml`, Cycles' scenes by tools/cycles_scene.py (a bpy worker process
 per render, so Cycles' memory and threads are its own).
 
@@ -89,6 +91,25 @@ CYCLES_EXTRA = {
         "medium": None,
     },
 }
+# Variants of the bench smoke (B3) the tuning never saw, as checks on the held-out
+# goal: a denser, brighter, more forward-scattering plume, and the plume lit from
+# behind (the sun toward the camera, through the plume's forward lobe).
+CYCLES_EXTRA["SMOKE_DENSE"] = dict(
+    bench.SCENES["B3"], file="cycles_smoke_dense",
+    title="the bench smoke 3× denser (albedo 0.95, HG 0.6)",
+    medium=dict(bench.SCENES["B3"]["medium"], scale=60.0, albedo=[0.95] * 3, g=0.6))
+CYCLES_EXTRA["SMOKE_BACKLIT"] = dict(
+    bench.SCENES["B3"], file="cycles_smoke_backlit",
+    title="the bench smoke lit from behind (HG 0.6)",
+    lights=[{"type": "sun", "direction": bench.norm([0.3, -0.5, 0.8]), "irradiance": [4.0] * 3},
+            {"type": "environment", "radiance": [0.15] * 3}],
+    medium=dict(bench.SCENES["B3"]["medium"], g=0.6))
+# The cloud lit from behind and above (the sun toward the camera), under a paler sky.
+CYCLES_EXTRA["CLOUD_BACKLIT"] = dict(
+    CYCLES_EXTRA["CLOUD"], file="cycles_cloud_backlit",
+    title="the dense cloud lit from behind (albedo 0.99, HG 0.8)",
+    lights=[{"type": "sun", "direction": bench.norm([0.4, -0.6, 0.7]), "irradiance": [3.0] * 3},
+            {"type": "environment", "radiance": [0.3, 0.35, 0.45]}])
 # The same ground under scenes/sky.exr (a procedural HDR sky with a bright aureole).
 CYCLES_EXTRA["GROUND_MAP"] = dict(CYCLES_EXTRA["GROUND"], file="cycles_ground_map",
                                   title="the ground and boxes under an HDR sky map",
@@ -98,6 +119,9 @@ CYCLES_EXTRA["GROUND_MAP"] = dict(CYCLES_EXTRA["GROUND"], file="cycles_ground_ma
 HARNESS = {
     "smoke": ("B3", [160, 160]),
     "cloud": ("CLOUD", [160, 120]),
+    "smoke_dense": ("SMOKE_DENSE", [160, 160]),
+    "smoke_backlit": ("SMOKE_BACKLIT", [160, 160]),
+    "cloud_backlit": ("CLOUD_BACKLIT", [160, 120]),
     "fog": ("B1", [128, 128]),
     "ground": ("GROUND", [160, 120]),
     "ground_map": ("GROUND_MAP", [160, 120]),
