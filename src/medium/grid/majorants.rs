@@ -44,8 +44,14 @@ const MIN_DENSE_CELL: i32 = 2;
 /// The cell size (voxels) over which the peak extinction `peak_per_voxel`
 /// spans at most [`DENSE_CELL_OPTICAL_DEPTH`], at least [`MIN_DENSE_CELL`].
 fn exact_walk_cell_size(peak_per_voxel: f32) -> i32 {
+    cells_spanning(DENSE_CELL_OPTICAL_DEPTH, peak_per_voxel).max(MIN_DENSE_CELL)
+}
+
+/// The most whole voxels over which `peak_per_voxel` adds up to at most
+/// `depth` (at most 10⁶; `i32::MAX` where the volume has no extinction).
+fn cells_spanning(depth: f32, peak_per_voxel: f32) -> i32 {
     if peak_per_voxel > 0.0 {
-        ((DENSE_CELL_OPTICAL_DEPTH / peak_per_voxel).floor().min(1e6) as i32).max(MIN_DENSE_CELL)
+        (depth / peak_per_voxel).floor().min(1e6) as i32
     } else {
         i32::MAX
     }
@@ -62,11 +68,7 @@ const MAX_MAJORANT_CELLS: f32 = (1 << 22) as f32;
 /// 8-voxel cells would spend ~10⁵ null collisions crossing one mostly empty
 /// cell at its edge. Finer cells bound σ̄ near the density itself.
 fn dense_cell_size(peak_per_voxel: f32, extent: IVec3) -> i32 {
-    let by_depth = if peak_per_voxel > 0.0 {
-        (MAX_CELL_OPTICAL_DEPTH / peak_per_voxel).floor().min(1e6) as i32
-    } else {
-        i32::MAX
-    };
+    let by_depth = cells_spanning(MAX_CELL_OPTICAL_DEPTH, peak_per_voxel);
     let volume = extent.as_vec3().element_product();
     let by_memory = (volume / MAX_MAJORANT_CELLS).cbrt().ceil() as i32;
     by_depth.max(by_memory).max(1)
