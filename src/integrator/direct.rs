@@ -154,6 +154,10 @@ pub(super) fn direct_light_mixed(
         return Rgb::BLACK;
     };
     let light = &scene.lights[index];
+    // A sky left to the control variate (a sky alone keeps its pick) lights nothing here.
+    if scene.sky_controls(light) {
+        return Rgb::BLACK;
+    }
     let p = vertex.position();
     let Some(ls) = light.sample_facing(p, vertex.normal(), u, &scene.geometry, time) else {
         return Rgb::BLACK;

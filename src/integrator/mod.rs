@@ -16,6 +16,7 @@ mod forced;
 pub mod guiding;
 pub mod interfaces;
 pub mod mlt;
+pub mod sky_control;
 pub mod slab_record;
 pub mod sppm;
 pub mod sun_lobe;
@@ -131,6 +132,9 @@ pub struct Scene {
     pub settings: Settings,
     /// AOVs to write beside the beauty (`[film] aovs`).
     pub aovs: Vec<aov::Aov>,
+    /// The constant environment's radiance where the path tracer takes it as
+    /// a control variate (module [`sky_control`]; the path tracer then neither samples nor meets it).
+    pub sky_control: Option<Rgb>,
 }
 
 impl Scene {
@@ -161,7 +165,7 @@ impl Scene {
     ) -> Rgb {
         let mut total = Rgb::BLACK;
         for (index, light) in self.lights.iter().enumerate() {
-            if !light.is_infinite() {
+            if !light.is_infinite() || self.sky_controls(light) {
                 continue;
             }
             let le = light.escaped_radiance(dir);
@@ -178,6 +182,12 @@ impl Scene {
             total += le * weight;
         }
         total
+    }
+
+    /// Whether the path tracer leaves `light` to the sky control variate (module [`sky_control`]).
+    #[inline]
+    pub(crate) fn sky_controls(&self, light: &Light) -> bool {
+        self.sky_control.is_some() && light.constant_environment().is_some()
     }
 
     /// Transmittance along `ray` over `[0, t_max)` through every medium (1 with no media).
@@ -230,6 +240,8 @@ struct PathState<'g> {
     log: Option<&'g mut PathLog>,
     /// The medium the current ray is in, under the interface rule (unused by containment).
     medium: Option<u32>,
+    /// The sky light booked so far, where the sky is a control variate (module [`sky_control`]).
+    sky: Option<sky_control::SkyBook>,
 }
 
 /// Whether a path goes on after a step.
@@ -303,7 +315,7 @@ pub(crate) fn li_gathering<G: Gather>(
     gather: &mut G,
     first_segment_end: Option<f32>,
 ) -> Rgb {
-    let mut path = PathState::new(scene, ray, first_segment_end, None, None);
+    let mut path = PathState::new(scene, ray, (first_segment_end, G::ACTIVE), None, None);
     while let Step::Continue = trace_segment(scene, &mut path, sampler, gather) {}
     path.radiance
 }
@@ -316,7 +328,7 @@ pub(crate) fn li_path(
     guide: Option<&Guide>,
     log: Option<&mut PathLog>,
 ) -> Rgb {
-    let mut path = PathState::new(scene, ray, None, guide, log);
+    let mut path = PathState::new(scene, ray, (None, false), guide, log);
     while let Step::Continue = trace_segment(scene, &mut path, sampler, &mut NoGather) {}
     path.radiance
 }
@@ -326,14 +338,20 @@ impl<'g> PathState<'g> {
     fn new(
         scene: &Scene,
         ray: Ray,
-        first_segment_end: Option<f32>,
+        (first_segment_end, gathering): (Option<f32>, bool),
         guide: Option<&'g Guide>,
         log: Option<&'g mut PathLog>,
     ) -> PathState<'g> {
+        // A slab's bounded line asks for the light from inside its box only, and
+        // photon mapping's eye paths pair with photons of the sky: no control there.
+        let sky = scene
+            .sky_control
+            .filter(|_| first_segment_end.is_none() && !gathering)
+            .map(sky_control::SkyBook::start);
         PathState {
             ray,
             throughput: Rgb::WHITE,
-            radiance: Rgb::BLACK,
+            radiance: sky.map_or(Rgb::BLACK, |(_, u)| u),
             prev_pdf: 1.0,
             prev_delta: true,
             prev_point: ray.origin,
@@ -345,7 +363,26 @@ impl<'g> PathState<'g> {
             guide,
             log,
             medium: scene.interfaces.as_ref().and_then(|i| i.camera),
+            sky: sky.map(|(book, _)| book),
         }
+    }
+
+    /// Books the throughput's changes since the last booking into the sky light (module [`sky_control`]).
+    #[inline]
+    fn book_sky(&mut self) {
+        if let Some(book) = &mut self.sky {
+            self.radiance += book.book(self.throughput);
+        }
+    }
+
+    /// Ends the path at a vertex (not by escaping, not by roulette): `Step::Stop`,
+    /// with the sky light it will never gather taken back (module [`sky_control`]).
+    #[inline]
+    fn end_at_vertex(&mut self) -> Step {
+        if let Some(book) = &mut self.sky {
+            self.radiance += book.end(self.throughput);
+        }
+        Step::Stop
     }
 
     /// Notes the vertex at `p` about to be left along `dir`, drawn with density
@@ -400,6 +437,7 @@ fn trace_segment<G: Gather>(
             path.prev_normal,
         );
         path.radiance += path.throughput * escaped;
+        path.book_sky();
         return Step::Stop;
     };
     add_surface_emission(scene, path, &hit);
@@ -410,7 +448,7 @@ fn trace_segment<G: Gather>(
         return thin_sheet(scene, path, &hit, ior, sampler);
     }
     if path.emission_only {
-        return Step::Stop;
+        return path.end_at_vertex();
     }
     surface_vertex(scene, path, &hit, sampler, gather)
 }
@@ -434,7 +472,7 @@ fn thin_sheet(
     let (wi, reflectance, reflects) =
         crate::material::layered::thin_lobe(ior, &shading, wo, sampler.next_1d());
     if reflects && path.emission_only {
-        return Step::Stop;
+        return path.end_at_vertex();
     }
     if let Some(interfaces) = &scene.interfaces {
         path.medium = interfaces.after(hit.shape, hit.geometric_normal, wi, path.medium);
@@ -533,9 +571,9 @@ fn medium_segment(
         sampler,
     );
     match event {
-        FreeFlight::Absorbed => Some(Step::Stop),
+        FreeFlight::Absorbed => Some(path.end_at_vertex()),
         FreeFlight::Passed => None,
-        FreeFlight::Scatter { .. } if path.emission_only => Some(Step::Stop),
+        FreeFlight::Scatter { .. } if path.emission_only => Some(path.end_at_vertex()),
         FreeFlight::Scatter { t, properties, .. } => Some(scatter_in_segment(
             scene,
             path,
@@ -616,7 +654,7 @@ fn scatter_in_segment(
             });
     }
     let Some((dir, weight, pdf)) = mixture.sample(phase, path.ray.direction, sampler) else {
-        return Step::Stop;
+        return path.end_at_vertex();
     };
     path.throughput *= weight;
     path.prev_normal = None;
@@ -776,7 +814,7 @@ fn surface_vertex<G: Gather>(
             path.throughput * vertex_direct_light(scene, path, &vertex, mixed, sampler);
     }
     let Some(bs) = scatter_at_surface(tree, material, &shading, wo, sampler) else {
-        return Step::Stop;
+        return path.end_at_vertex();
     };
     path.throughput *= bs.weight;
     path.prev_normal = Some(shading.n);
@@ -852,11 +890,15 @@ fn continue_path(
     path.emission_only = last
         || path.depth >= settings.max_depth
         || path.scatter_depth >= settings.max_scatter_depth;
-    if russian_roulette(&mut path.throughput, path.depth, settings.rr_depth, sampler) {
-        Step::Continue
-    } else {
-        Step::Stop
+    path.book_sky();
+    if !russian_roulette(&mut path.throughput, path.depth, settings.rr_depth, sampler) {
+        // Roulette's loss is booked by its expectation, with the survivors' gain: nothing.
+        return Step::Stop;
     }
+    if let Some(book) = &mut path.sky {
+        book.rescaled(path.throughput);
+    }
+    Step::Continue
 }
 
 /// Depth from which Russian roulette's survival probability is capped below 1.
@@ -930,21 +972,21 @@ mod tests {
         let mut forced = |scene: &Scene, path: &PathState, excluded: bool| {
             forced_in_scattering(scene, &media, path, f32::INFINITY, excluded, &mut sampler)
         };
-        let plain = PathState::new(&scene, ray, None, None, None);
+        let plain = PathState::new(&scene, ray, (None, false), None, None);
         assert!(forced(&scene, &plain, false).is_some());
         assert!(forced(&scene, &plain, true).is_none());
         let guide = Guide::new();
-        let guided = PathState::new(&scene, ray, None, Some(&guide), None);
+        let guided = PathState::new(&scene, ray, (None, false), Some(&guide), None);
         assert!(forced(&scene, &guided, false).is_none());
         let mut log = PathLog::new();
-        let training = PathState::new(&scene, ray, None, None, Some(&mut log));
+        let training = PathState::new(&scene, ray, (None, false), None, Some(&mut log));
         assert!(forced(&scene, &training, false).is_none());
         scene.interfaces = Some(interfaces::Interfaces {
             sides: vec![None],
             null: vec![false],
             camera: Some(0),
         });
-        let ruled = PathState::new(&scene, ray, None, None, None);
+        let ruled = PathState::new(&scene, ray, (None, false), None, None);
         assert!(forced(&scene, &ruled, false).is_none());
     }
 
@@ -963,7 +1005,7 @@ mod tests {
         let scene = crate::scene::build(&desc, file, std::path::Path::new(".")).expect("build");
         let phase = crate::medium::PhaseFunction::HenyeyGreenstein { g: 0.8 };
         let ray = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
-        let mut plain = PathState::new(&scene, ray, None, None, None);
+        let mut plain = PathState::new(&scene, ray, (None, false), None, None);
         plain.scatter_depth = 1;
         let lobe = |path: &PathState, guided: bool, forced: bool| {
             sun_lobe_at(&scene, path, &phase, (guided, forced))
@@ -975,7 +1017,7 @@ mod tests {
         plain.scatter_depth = sun_lobe::SUN_LOBE_DEPTH + 1;
         assert_eq!(lobe(&plain, false, false), None);
         let mut log = PathLog::new();
-        let mut training = PathState::new(&scene, ray, None, None, Some(&mut log));
+        let mut training = PathState::new(&scene, ray, (None, false), None, Some(&mut log));
         training.scatter_depth = 1;
         assert_eq!(lobe(&training, false, false), None);
     }

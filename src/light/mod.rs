@@ -253,6 +253,15 @@ impl Light {
         }
     }
 
+    /// The radiance of a constant environment (`None` for every other light).
+    #[inline]
+    pub fn constant_environment(&self) -> Option<Rgb> {
+        match self {
+            Light::Environment(Environment::Constant { radiance }) => Some(*radiance),
+            _ => None,
+        }
+    }
+
     /// True for lights at infinity that a ray escaping the scene can see.
     pub fn is_infinite(&self) -> bool {
         matches!(self, Light::Sun { .. } | Light::Environment(_))

@@ -378,6 +378,10 @@ pub struct IntegratorDesc {
     /// environment beside other lights (default: from the lights' powers).
     #[serde(default)]
     pub environment_share: Option<f32>,
+    /// The constant environment as a control variate of the path tracer
+    /// (default: on with a constant environment and a medium; module `sky_control`).
+    #[serde(default)]
+    pub sky_control: Option<bool>,
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.
     #[serde(default = "default_sampler")]
     pub sampler: String,
@@ -444,6 +448,7 @@ impl Default for IntegratorDesc {
             forced_scattering: None,
             sun_lobe: None,
             environment_share: None,
+            sky_control: None,
             sampler: default_sampler(),
             photons: None,
             radius: None,

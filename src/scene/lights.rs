@@ -205,3 +205,53 @@ fn build_sun(
         cos_max: radius.to_radians().cos(),
     })
 }
+
+/// `integrator.sky_control`: the constant environment's radiance where the
+/// path tracer takes it as a control variate (`integrator::sky_control`;
+/// the path tracer then neither samples nor meets that light). Automatic: on for the path
+/// tracer with a constant environment and a medium (where roulette's
+/// variance in the sky light it carries is the control variate's gain),
+/// off where a key asks for the environment's own sampling (guiding,
+/// `environment_share`) or a light slab has baked the sky into its light.
+pub(super) fn sky_control(
+    desc: &SceneDesc,
+    check: &Check,
+    lights: &[Light],
+    has_media: bool,
+    has_slabs: bool,
+) -> Result<Option<crate::math::color::Rgb>> {
+    const KEY: &str = "integrator.sky_control";
+    let integrator = &desc.integrator;
+    let constant = lights
+        .iter()
+        .position(|l| matches!(l, Light::Environment(Environment::Constant { .. })));
+    let refusal = if integrator.kind != "path" {
+        Some(format!(
+            "needs type = \"path\": type = \"{}\" samples the environment in its own strategies",
+            integrator.kind
+        ))
+    } else if integrator.guiding {
+        Some("cannot be used with integrator.guiding: the guide learns the sky light the control variate takes out".into())
+    } else if constant.is_none() {
+        Some(
+            "needs a constant environment ([[light]] type = \"environment\" with a radiance)"
+                .into(),
+        )
+    } else if has_slabs {
+        Some("cannot be used with a light slab or a [slab] bake: a slab's light holds the environment's".into())
+    } else {
+        None
+    };
+    let on = match integrator.sky_control {
+        Some(true) => match refusal {
+            Some(message) => return Err(check.error(KEY, message)),
+            None => true,
+        },
+        Some(false) => false,
+        None => refusal.is_none() && has_media && integrator.environment_share.is_none(),
+    };
+    let (true, Some(index)) = (on, constant) else {
+        return Ok(None);
+    };
+    Ok(lights[index].constant_environment())
+}

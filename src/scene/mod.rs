@@ -46,7 +46,7 @@ use crate::sampling::SamplerKind;
 use adaptive_keys::build_adaptive;
 use camera::build_camera;
 use description::SceneDesc;
-use lights::{build_lights, light_powers, nee_pick, smooth_sky_beside_others};
+use lights::{build_lights, light_powers, nee_pick, sky_control, smooth_sky_beside_others};
 use mlt_keys::{build_mlt, warn_mlt_keys};
 use std::path::{Path, PathBuf};
 use validate::Check;
@@ -507,10 +507,14 @@ pub fn build_frame_cached(
     let (lights, shape_lights) =
         build_lights(desc, &check, base, &shapes.geometry, shapes.emissions)?;
     let media = build_media(desc, &check, base, &timing, shapes.interiors)?;
+    // A slab shape's baked light holds the sky; a `[slab]` table's bake traces lines
+    // that must meet the sky itself (`integrator::li_from_inside`).
+    let has_slabs = !shapes.geometry.slabs().is_empty() || desc.slab.is_some();
+    let sky_control = sky_control(desc, &check, &lights, !media.is_empty(), has_slabs)?;
     let interfaces = interfaces::build(desc, &check, &mut settings)?;
     let power = light_powers(&lights, &shapes.geometry, &camera);
     let light_pick = LightPick::new(&power);
-    let nee_pick = build_nee_pick(desc, &check, &lights, &power)?;
+    let nee_pick = build_nee_pick(desc, &check, &lights, &power, sky_control.is_some())?;
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
     settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
     if desc.integrator.forced_scattering.is_none() {
@@ -531,6 +535,7 @@ pub fn build_frame_cached(
         interfaces,
         settings,
         aovs: build_aovs(&desc.film.aovs, &check)?,
+        sky_control,
     };
     Ok((scene, check.take_warnings()))
 }
@@ -545,13 +550,14 @@ fn sun_lobe_share(desc: &SceneDesc, check: &Check) -> Result<f32> {
 }
 
 /// The path tracer's next-event pick ([`nee_pick`]) over `lights` of
-/// powers `power`, with the key `integrator.environment_share`, warning
-/// where the key can change nothing.
+/// powers `power`, with the key `integrator.environment_share` (0 where the
+/// sky is a control variate), warning where the key can change nothing.
 fn build_nee_pick(
     desc: &SceneDesc,
     check: &Check,
     lights: &[Light],
     power: &[f32],
+    sky_controlled: bool,
 ) -> Result<LightPick> {
     let share = environment_share_key(desc, check)?;
     let sky = smooth_sky_beside_others(lights);
@@ -567,6 +573,14 @@ fn build_nee_pick(
             "has no effect: the scene has no constant or sky environment beside other lights",
         );
     }
+    if share.is_some() && sky_controlled {
+        check.warn(
+            "integrator.environment_share",
+            "has no effect: integrator.sky_control takes the sky out of the light samples",
+        );
+    }
+    // Under `integrator.sky_control` the path tracer never samples the sky.
+    let share = if sky_controlled { Some(0.0) } else { share };
     Ok(nee_pick(power, sky, share))
 }
 
