@@ -66,7 +66,7 @@ fn the_control_variate_leaves_the_expectation_at_every_depth() {
 #[test]
 fn a_white_ball_in_a_uniform_sky_is_the_sky_in_every_sample() {
     let text = SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
-        .depths(1000, 2)
+        .integrator("max_depth = 1000\nrr_depth = 2\nsky_control = true")
         .environment(0.8)
         .medium(
             "type = \"homogeneous\"\nsigma_t = 3.0\nalbedo = 1.0\n\
@@ -75,7 +75,7 @@ fn a_white_ball_in_a_uniform_sky_is_the_sky_in_every_sample() {
         )
         .build();
     let scene = scene_from_str(&text);
-    assert!(scene.sky_control.is_some(), "on by default with a medium");
+    assert!(scene.sky_control.is_some());
     let ray = Ray::new(
         Vec3::new(0.0, 0.0, 4.0),
         Vec3::new(0.1, 0.05, -1.0).normalize(),
@@ -124,9 +124,11 @@ fn the_control_variate_lowers_the_error_in_a_bright_fog_layer() {
     }
 }
 
-/// The default: on for the path tracer with a constant sky and a medium;
-/// off without a medium, with guiding, with `environment_share` or a
-/// gradient sky; `true` where it cannot apply is refused naming the key.
+/// The default: on for the path tracer with a constant sky and a medium
+/// under a brighter sun; off without a medium, with the sky alone or
+/// brighter than the sun (light samples ask it), with guiding, with
+/// `environment_share` or a gradient sky; `true` where it cannot apply is
+/// refused naming the key.
 #[test]
 fn the_key_defaults_and_refusals() {
     let fog = "type = \"homogeneous\"\nsigma_t = 0.1\nalbedo = 0.9\n\
@@ -134,18 +136,27 @@ fn the_key_defaults_and_refusals() {
     let base = |integrator: &str, env: &str, medium: bool| {
         let t = SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
             .integrator(integrator)
-            .sun([0.0, -1.0, 0.0], 1.0)
+            .sun([0.0, -1.0, 0.0], 10.0)
             .light(env);
         match medium {
             true => t.medium(fog).build(),
             false => t.sphere([0.0; 3], 1.0).build(),
         }
     };
-    let constant = "type = \"environment\"\nradiance = 0.5";
+    let constant = "type = \"environment\"\nradiance = 0.25";
     let on = scene_from_str(&base("", constant, true));
-    assert_eq!(on.sky_control.map(|s| s.r), Some(0.5));
+    assert_eq!(on.sky_control.map(|s| s.r), Some(0.25));
+    let sky_alone = SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+        .light(constant)
+        .medium(fog)
+        .build();
     for (what, text) in [
         ("no medium", base("", constant, false)),
+        ("the sky alone", sky_alone),
+        (
+            "a sky brighter than the sun",
+            base("", "type = \"environment\"\nradiance = 20.0", true),
+        ),
         ("guiding", base("guiding = true", constant, true)),
         (
             "environment_share",

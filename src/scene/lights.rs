@@ -86,10 +86,7 @@ pub(super) fn smooth_sky_beside_others(lights: &[Light]) -> Option<usize> {
 pub(super) fn nee_pick(power: &[f32], sky: Option<usize>, share: Option<f32>) -> LightPick {
     match sky {
         Some(sky) => {
-            let rest: f32 = (0..power.len())
-                .filter(|&i| i != sky)
-                .map(|i| power[i])
-                .sum();
+            let rest = power_beside(power, sky);
             let share = share.unwrap_or_else(|| environment_share(power[sky], rest));
             LightPick::with_fixed_share(power, sky, share)
         }
@@ -208,15 +205,19 @@ fn build_sun(
 
 /// `integrator.sky_control`: the constant environment's radiance where the
 /// path tracer takes it as a control variate (`integrator::sky_control`;
-/// the path tracer then neither samples nor meets that light). Automatic: on for the path
-/// tracer with a constant environment and a medium (where roulette's
-/// variance in the sky light it carries is the control variate's gain),
-/// off where a key asks for the environment's own sampling (guiding,
-/// `environment_share`) or a light slab has baked the sky into its light.
+/// the path tracer then neither samples nor meets that light). Automatic:
+/// on for the path tracer with a constant environment and a medium (where
+/// roulette's variance in the sky light it carries is the control
+/// variate's gain) when the light samples leave the sky out anyway (a sun
+/// brighter than it: [`environment_share`] of the powers `power` is 0);
+/// off where the sky is light-sampled (a sky-lit ground's light samples of
+/// the sky beat the continuation alone), where a key asks for the
+/// environment's own sampling (guiding, `environment_share`) or where a
+/// light slab has baked the sky into its light.
 pub(super) fn sky_control(
     desc: &SceneDesc,
     check: &Check,
-    lights: &[Light],
+    (lights, power): (&[Light], &[f32]),
     has_media: bool,
     has_slabs: bool,
 ) -> Result<Option<crate::math::color::Rgb>> {
@@ -248,10 +249,32 @@ pub(super) fn sky_control(
             None => true,
         },
         Some(false) => false,
-        None => refusal.is_none() && has_media && integrator.environment_share.is_none(),
+        None => {
+            refusal.is_none()
+                && has_media
+                && integrator.environment_share.is_none()
+                && !sky_light_sampled(lights, power)
+        }
     };
     let (true, Some(index)) = (on, constant) else {
         return Ok(None);
     };
     Ok(lights[index].constant_environment())
+}
+
+/// Whether the path tracer's light samples would ask the sky by default: a
+/// sky alone always, beside other lights by [`environment_share`] of the powers.
+fn sky_light_sampled(lights: &[Light], power: &[f32]) -> bool {
+    let Some(sky) = smooth_sky_beside_others(lights) else {
+        return true;
+    };
+    environment_share(power[sky], power_beside(power, sky)) > 0.0
+}
+
+/// The power of every light but `sky`.
+fn power_beside(power: &[f32], sky: usize) -> f32 {
+    (0..power.len())
+        .filter(|&i| i != sky)
+        .map(|i| power[i])
+        .sum()
 }

@@ -510,9 +510,15 @@ pub fn build_frame_cached(
     // A slab shape's baked light holds the sky; a `[slab]` table's bake traces lines
     // that must meet the sky itself (`integrator::li_from_inside`).
     let has_slabs = !shapes.geometry.slabs().is_empty() || desc.slab.is_some();
-    let sky_control = sky_control(desc, &check, &lights, !media.is_empty(), has_slabs)?;
     let interfaces = interfaces::build(desc, &check, &mut settings)?;
     let power = light_powers(&lights, &shapes.geometry, &camera);
+    let sky_control = sky_control(
+        desc,
+        &check,
+        (&lights, &power),
+        !media.is_empty(),
+        has_slabs,
+    )?;
     let light_pick = LightPick::new(&power);
     let nee_pick = build_nee_pick(desc, &check, &lights, &power, sky_control.is_some())?;
     // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
