@@ -521,13 +521,7 @@ pub fn build_frame_cached(
     )?;
     let light_pick = LightPick::new(&power);
     let nee_pick = build_nee_pick(desc, &check, &lights, &power, sky_control.is_some())?;
-    // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
-    settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
-    if desc.integrator.forced_scattering.is_none() {
-        settings.forced_scattering =
-            !camera_in_a_medium(&media, &camera) && !lights.iter().any(|l| l.is_infinite());
-    }
-    settings.sun_lobe = SunLobe::choose(sun_lobe_share(desc, &check)?, &lights);
+    choose_strategies(desc, &check, &mut settings, (&lights, &media, &camera))?;
     let scene = Scene {
         camera,
         geometry: shapes.geometry,
@@ -544,6 +538,24 @@ pub fn build_frame_cached(
         sky_control,
     };
     Ok((scene, check.take_warnings()))
+}
+
+/// The sampling strategies that depend on the scene's lights and media:
+/// equiangular sampling, forced in-scattering's default and the sun lobe.
+fn choose_strategies(
+    desc: &SceneDesc,
+    check: &Check,
+    settings: &mut Settings,
+    (lights, media, camera): (&[Light], &[crate::medium::Medium], &crate::camera::Camera),
+) -> Result<()> {
+    // Equiangular sampling aims at point and spot lights: without any, no segment needs the search.
+    settings.equiangular &= lights.iter().any(|l| l.point_position().is_some());
+    if desc.integrator.forced_scattering.is_none() {
+        settings.forced_scattering =
+            !camera_in_a_medium(media, camera) && !lights.iter().any(|l| l.is_infinite());
+    }
+    settings.sun_lobe = SunLobe::choose(sun_lobe_share(desc, check)?, lights);
+    Ok(())
 }
 
 /// `integrator.sun_lobe`: the sun lobe's share of the first medium
