@@ -20,7 +20,9 @@
 //! The environment itself is then not sampled (its radiance counts as 0
 //! for escaping rays and next-event estimation), and the estimate stays
 //! unbiased for any material, medium and depth limit: every change but
-//! roulette's is booked as it happened.
+//! roulette's is booked as it happened. A sample can be negative (a path
+//! roulette let through that then ends at a vertex gives back sky light it
+//! was never booked): a dark pixel of few samples can fall below 0.
 
 use crate::math::color::Rgb;
 
