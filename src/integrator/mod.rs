@@ -346,12 +346,12 @@ impl<'g> PathState<'g> {
         // photon mapping's eye paths pair with photons of the sky: no control there.
         let sky = scene
             .sky_control
-            .filter(|_| first_segment_end.is_none() && !gathering)
-            .map(sky_control::SkyBook::start);
+            .filter(|_| first_segment_end.is_none() && !gathering);
         PathState {
             ray,
             throughput: Rgb::WHITE,
-            radiance: sky.map_or(Rgb::BLACK, |(_, u)| u),
+            // The sky light U the path books at its start (module `sky_control`).
+            radiance: sky.unwrap_or(Rgb::BLACK),
             prev_pdf: 1.0,
             prev_delta: true,
             prev_point: ray.origin,
@@ -363,7 +363,7 @@ impl<'g> PathState<'g> {
             guide,
             log,
             medium: scene.interfaces.as_ref().and_then(|i| i.camera),
-            sky: sky.map(|(book, _)| book),
+            sky: sky.map(sky_control::SkyBook::start),
         }
     }
 

@@ -36,13 +36,12 @@ pub(crate) struct SkyBook {
 }
 
 impl SkyBook {
-    /// A camera path under the constant radiance `sky`, and the radiance it books at its start (U).
-    pub(crate) fn start(sky: Rgb) -> (SkyBook, Rgb) {
-        let book = SkyBook {
+    /// A camera path under the constant radiance `sky`, which books U at its start (β₀ = 1).
+    pub(crate) fn start(sky: Rgb) -> SkyBook {
+        SkyBook {
             sky,
             booked: Rgb::WHITE,
-        };
-        (book, sky)
+        }
     }
 
     /// The radiance that books the throughput's changes since the last booking.
@@ -71,8 +70,7 @@ impl SkyBook {
 mod tests {
     use super::*;
 
-    /// A path that escapes books U·β at its escape, one that ends at a
-    /// vertex books 0, and roulette's rescaling books nothing.
+    /// Equal within 10⁻⁶ in every channel.
     fn close(a: Rgb, b: Rgb) -> bool {
         (a - b).map(f32::abs).max_channel() < 1e-6
     }
@@ -83,7 +81,7 @@ mod tests {
     fn booking_telescopes_to_the_sky_light_at_the_escape() {
         let sky = Rgb::new(0.5, 1.0, 2.0);
         let beta = Rgb::new(0.4, 0.8, 0.2);
-        let (mut book, mut total) = SkyBook::start(sky);
+        let (mut book, mut total) = (SkyBook::start(sky), sky);
         total += book.book(Rgb::splat(0.8));
         total += book.book(beta);
         assert!(close(total, sky * beta), "{total:?}");

@@ -86,8 +86,7 @@ pub(super) fn smooth_sky_beside_others(lights: &[Light]) -> Option<usize> {
 pub(super) fn nee_pick(power: &[f32], sky: Option<usize>, share: Option<f32>) -> LightPick {
     match sky {
         Some(sky) => {
-            let rest = power_beside(power, sky);
-            let share = share.unwrap_or_else(|| environment_share(power[sky], rest));
+            let share = share.unwrap_or_else(|| default_sky_share(power, sky));
             LightPick::with_fixed_share(power, sky, share)
         }
         None => LightPick::new(power),
@@ -223,9 +222,7 @@ pub(super) fn sky_control(
 ) -> Result<Option<crate::math::color::Rgb>> {
     const KEY: &str = "integrator.sky_control";
     let integrator = &desc.integrator;
-    let constant = lights
-        .iter()
-        .position(|l| matches!(l, Light::Environment(Environment::Constant { .. })));
+    let constant = lights.iter().find_map(Light::constant_environment);
     let refusal = if integrator.kind != "path" {
         Some(format!(
             "needs type = \"path\": type = \"{}\" samples the environment in its own strategies",
@@ -256,10 +253,7 @@ pub(super) fn sky_control(
                 && !sky_light_sampled(lights, power)
         }
     };
-    let (true, Some(index)) = (on, constant) else {
-        return Ok(None);
-    };
-    Ok(lights[index].constant_environment())
+    Ok(constant.filter(|_| on))
 }
 
 /// Whether the path tracer's light samples would ask the sky by default: a
@@ -268,13 +262,15 @@ fn sky_light_sampled(lights: &[Light], power: &[f32]) -> bool {
     let Some(sky) = smooth_sky_beside_others(lights) else {
         return true;
     };
-    environment_share(power[sky], power_beside(power, sky)) > 0.0
+    default_sky_share(power, sky) > 0.0
 }
 
-/// The power of every light but `sky`.
-fn power_beside(power: &[f32], sky: usize) -> f32 {
-    (0..power.len())
+/// The share of light samples the sky at index `sky` gets by default:
+/// [`environment_share`] of its power and the other lights'.
+fn default_sky_share(power: &[f32], sky: usize) -> f32 {
+    let rest: f32 = (0..power.len())
         .filter(|&i| i != sky)
         .map(|i| power[i])
-        .sum()
+        .sum();
+    environment_share(power[sky], rest)
 }
