@@ -52,14 +52,7 @@ fn forced_and_collision_estimates_agree_and_forcing_lowers_variance_in_a_thin_sl
             let what = format!("toward {target:?}, {max_scatter}");
             assert_same(&collision, &forced, &what);
             let bound = if max_scatter.is_empty() { 0.8 } else { 1.0 };
-            for c in 0..3 {
-                assert!(
-                    forced.std_error[c] < bound * collision.std_error[c],
-                    "{what}: channel {c}: forced error {} not below the collisions' {}",
-                    forced.std_error[c],
-                    collision.std_error[c]
-                );
-            }
+            assert_lower_error(&forced, &collision, bound, &what);
         }
     }
 }

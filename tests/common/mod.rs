@@ -23,7 +23,8 @@ pub use scene_text::SceneText;
 
 #[allow(unused_imports)]
 pub use stats::{
-    assert_estimate, assert_pixels, assert_pixels_equal, assert_same, assert_within, k_sigma,
+    assert_estimate, assert_lower_error, assert_pixels, assert_pixels_equal, assert_same,
+    assert_within, k_sigma,
 };
 
 /// Builds a scene from TOML text as if it were the file `test.toml` in the crate root.

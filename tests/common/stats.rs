@@ -60,6 +60,18 @@ pub fn assert_estimate(est: &Estimate, expected: [f64; 3], what: &str) {
     }
 }
 
+/// Asserts that `better`'s standard error is below `factor` times `worse`'s in every channel.
+pub fn assert_lower_error(better: &Estimate, worse: &Estimate, factor: f64, what: &str) {
+    for c in 0..3 {
+        assert!(
+            better.std_error[c] < factor * worse.std_error[c],
+            "{what}: channel {c}: standard error {} not below {factor} × {}",
+            better.std_error[c],
+            worse.std_error[c]
+        );
+    }
+}
+
 /// Asserts two independent estimates of the same quantity agree (one family of 3 checks).
 pub fn assert_same(a: &Estimate, b: &Estimate, what: &str) {
     let k = k_sigma(3);
