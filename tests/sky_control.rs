@@ -117,9 +117,41 @@ fn the_control_variate_lowers_the_error_in_a_bright_fog_layer() {
     assert_lower_error(&on, &off, 0.9, "fog layer");
 }
 
+/// A bright cloud-like ball (albedo 0.99, HG 0.8) under a sky alone: the
+/// default takes the sky as a control although light samples would ask it
+/// (every medium at least `BRIGHT_ALBEDO`), the expectation is the light
+/// samples' and the standard error along a ray through the ball falls by
+/// more than half (0.09× measured).
+#[test]
+fn a_bright_ball_under_a_sky_alone_takes_the_control_by_default() {
+    let text = |key: &str| {
+        SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+            .integrator(&format!("max_depth = 1000\nrr_depth = 5\n{key}"))
+            .environment([0.6, 0.7, 0.9])
+            .medium(
+                "type = \"homogeneous\"\nsigma_t = 4.0\nalbedo = 0.99\n\
+                 phase = { type = \"hg\", g = 0.8 }\n\
+                 bounds = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }",
+            )
+            .build()
+    };
+    let auto = scene_from_str(&text(""));
+    let off = scene_from_str(&text("sky_control = false"));
+    assert!(auto.sky_control.is_some(), "the default");
+    let ray = Ray::new(
+        Vec3::new(0.0, 0.0, 4.0),
+        Vec3::new(0.1, 0.05, -1.0).normalize(),
+    );
+    let sampled = estimate_ray(&off, ray, 20_000, 5);
+    let controlled = estimate_ray(&auto, ray, 20_000, 6);
+    assert_same(&sampled, &controlled, "bright ball");
+    assert_lower_error(&controlled, &sampled, 0.5, "bright ball");
+}
+
 /// The default: on for the path tracer with a constant sky and a medium
-/// under a brighter sun; off without a medium, with the sky alone or
-/// brighter than the sun (light samples ask it), with guiding, with
+/// under a brighter sun, or over media of albedo at least `BRIGHT_ALBEDO`;
+/// off without a medium, with the sky alone or brighter than the sun over a
+/// darker medium (light samples ask it), with guiding, with
 /// `environment_share` or a gradient sky; `true` where it cannot apply is
 /// refused naming the key.
 #[test]
@@ -139,13 +171,30 @@ fn the_key_defaults_and_refusals() {
     let constant = "type = \"environment\"\nradiance = 0.25";
     let on = scene_from_str(&base("", constant, true));
     assert_eq!(on.sky_control.map(|s| s.r), Some(0.25));
-    let sky_alone = SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
-        .light(constant)
-        .medium(fog)
-        .build();
+    let sky_alone = |albedo: f32| {
+        SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+            .light(constant)
+            .medium(&fog.replace("albedo = 0.9", &format!("albedo = {albedo}")))
+            .build()
+    };
+    let bright = brume::scene::BRIGHT_ALBEDO;
+    for (what, text) in [
+        ("a sky alone over a bright medium", sky_alone(bright)),
+        (
+            "a sky brighter than the sun over a bright medium",
+            base("", "type = \"environment\"\nradiance = 20.0", true)
+                .replace("albedo = 0.9", "albedo = [0.99, 0.97, 0.95]"),
+        ),
+    ] {
+        assert!(scene_from_str(&text).sky_control.is_some(), "{what}");
+    }
     for (what, text) in [
         ("no medium", base("", constant, false)),
-        ("the sky alone", sky_alone),
+        ("the sky alone", sky_alone(0.9)),
+        (
+            "the sky alone, one channel below the bright albedo",
+            sky_alone(0.9).replace("albedo = 0.9", "albedo = [0.99, 0.99, 0.94]"),
+        ),
         (
             "a sky brighter than the sun",
             base("", "type = \"environment\"\nradiance = 20.0", true),

@@ -110,6 +110,16 @@ CYCLES_EXTRA["CLOUD_BACKLIT"] = dict(
     title="the dense cloud lit from behind (albedo 0.99, HG 0.8)",
     lights=[{"type": "sun", "direction": bench.norm([0.4, -0.6, 0.7]), "irradiance": [3.0] * 3},
             {"type": "environment", "radiance": [0.3, 0.35, 0.45]}])
+# The bench smoke and the dense cloud under a sky alone (no sun: light samples would
+# ask the sky), as checks on held-out lighting.
+CYCLES_EXTRA["SMOKE_SKY"] = dict(
+    bench.SCENES["B3"], file="cycles_smoke_sky",
+    title="the bench smoke under a uniform sky alone",
+    lights=[{"type": "environment", "radiance": [0.8] * 3}])
+CYCLES_EXTRA["CLOUD_SKY"] = dict(
+    CYCLES_EXTRA["CLOUD"], file="cycles_cloud_sky",
+    title="the dense cloud under a uniform sky alone (albedo 0.99, HG 0.8)",
+    lights=[{"type": "environment", "radiance": [0.6, 0.7, 0.9]}])
 # The same ground under scenes/sky.exr (a procedural HDR sky with a bright aureole).
 CYCLES_EXTRA["GROUND_MAP"] = dict(CYCLES_EXTRA["GROUND"], file="cycles_ground_map",
                                   title="the ground and boxes under an HDR sky map",
@@ -125,6 +135,8 @@ HARNESS = {
     "fog": ("B1", [128, 128]),
     "ground": ("GROUND", [160, 120]),
     "ground_map": ("GROUND_MAP", [160, 120]),
+    "smoke_sky": ("SMOKE_SKY", [160, 160]),
+    "cloud_sky": ("CLOUD_SKY", [160, 120]),
 }
 bench.SCENES.update(CYCLES_EXTRA)
 

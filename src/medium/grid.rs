@@ -339,6 +339,14 @@ impl GridMedium {
         self.albedo
     }
 
+    /// The albedo, where it is the same everywhere (no albedo grid).
+    pub fn constant_albedo(&self) -> Option<Rgb> {
+        match &self.channels {
+            Some(c) if c.albedo.is_some() => None,
+            _ => Some(self.albedo),
+        }
+    }
+
     /// Clamped density at world point `p`.
     #[inline]
     pub fn density(&self, p: Vec3) -> f32 {

@@ -9,6 +9,7 @@ use crate::error::Result;
 use crate::geometry::Geometry;
 use crate::light::{environment_share, Environment, Light, LightPick};
 use crate::material::texture::Texture;
+use crate::medium::Medium;
 use std::path::Path;
 
 /// The area lights of emissive shapes (indexed by shape) followed by the
@@ -202,22 +203,32 @@ fn build_sun(
     })
 }
 
+/// The least single-scattering albedo (in every channel of every medium) at
+/// which the automatic `integrator.sky_control` takes a sky that light
+/// samples would ask as a control variate: the bench smoke over its ground
+/// under a sky alone measured 0.82× the efficiency with the control at
+/// albedo 0.9, 0.98× at 0.93, 1.25× at 0.95 (BENCHMARKS.md, "The sky as a
+/// control variate in bright media").
+pub const BRIGHT_ALBEDO: f32 = 0.95;
+
 /// `integrator.sky_control`: the constant environment's radiance where the
 /// path tracer takes it as a control variate (`integrator::sky_control`;
 /// the path tracer then neither samples nor meets that light). Automatic:
 /// on for the path tracer with a constant environment and a medium (where
 /// roulette's variance in the sky light it carries is the control
 /// variate's gain) when the light samples leave the sky out anyway (a sun
-/// brighter than it: [`environment_share`] of the powers `power` is 0);
-/// off where the sky is light-sampled (a sky-lit ground's light samples of
-/// the sky beat the continuation alone), where a key asks for the
-/// environment's own sampling (guiding, `environment_share`) or where a
+/// brighter than it: [`environment_share`] of the powers `power` is 0) or
+/// when every medium is bright ([`bright_media`]: the light a walk meets is
+/// then close to the sky's, and the control's deviations small); off where
+/// the sky is light-sampled beside darker media (a sky-lit ground's light
+/// samples of the sky beat the continuation alone), where a key asks for
+/// the environment's own sampling (guiding, `environment_share`) or where a
 /// light slab has baked the sky into its light.
 pub(super) fn sky_control(
     desc: &SceneDesc,
     check: &Check,
     (lights, power): (&[Light], &[f32]),
-    has_media: bool,
+    media: &[Medium],
     has_slabs: bool,
 ) -> Result<Option<crate::math::color::Rgb>> {
     const KEY: &str = "integrator.sky_control";
@@ -248,12 +259,21 @@ pub(super) fn sky_control(
         Some(false) => false,
         None => {
             refusal.is_none()
-                && has_media
+                && !media.is_empty()
                 && integrator.environment_share.is_none()
-                && !sky_light_sampled(lights, power)
+                && (!sky_light_sampled(lights, power) || bright_media(media))
         }
     };
     Ok(constant.filter(|_| on))
+}
+
+/// Whether every medium scatters at least [`BRIGHT_ALBEDO`] of the light it
+/// meets in every channel (false for an albedo grid: not known everywhere).
+fn bright_media(media: &[Medium]) -> bool {
+    media.iter().all(|m| {
+        m.constant_albedo()
+            .is_some_and(|a| a.min_channel() >= BRIGHT_ALBEDO)
+    })
 }
 
 /// Whether the path tracer's light samples would ask the sky by default: a

@@ -46,6 +46,7 @@ use crate::sampling::SamplerKind;
 use adaptive_keys::build_adaptive;
 use camera::build_camera;
 use description::SceneDesc;
+pub use lights::BRIGHT_ALBEDO;
 use lights::{build_lights, light_powers, nee_pick, sky_control, smooth_sky_beside_others};
 use mlt_keys::{build_mlt, warn_mlt_keys};
 use std::path::{Path, PathBuf};
@@ -512,13 +513,7 @@ pub fn build_frame_cached(
     let has_slabs = !shapes.geometry.slabs().is_empty() || desc.slab.is_some();
     let interfaces = interfaces::build(desc, &check, &mut settings)?;
     let power = light_powers(&lights, &shapes.geometry, &camera);
-    let sky_control = sky_control(
-        desc,
-        &check,
-        (&lights, &power),
-        !media.is_empty(),
-        has_slabs,
-    )?;
+    let sky_control = sky_control(desc, &check, (&lights, &power), &media, has_slabs)?;
     let light_pick = LightPick::new(&power);
     let nee_pick = build_nee_pick(desc, &check, &lights, &power, sky_control.is_some())?;
     choose_strategies(desc, &check, &mut settings, (&lights, &media, &camera))?;
