@@ -132,8 +132,9 @@ pub struct Scene {
     pub settings: Settings,
     /// AOVs to write beside the beauty (`[film] aovs`).
     pub aovs: Vec<aov::Aov>,
-    /// The constant environment's radiance where the path tracer takes it as
-    /// a control variate (module [`sky_control`]; the path tracer then neither samples nor meets it).
+    /// The constant U′ the path tracer books where it takes the constant
+    /// environment as a control variate (module [`sky_control`]; the path
+    /// tracer then never light-samples it, and escapes meet U − U′).
     pub sky_control: Option<Rgb>,
 }
 
@@ -165,7 +166,13 @@ impl Scene {
     ) -> Rgb {
         let mut total = Rgb::BLACK;
         for (index, light) in self.lights.iter().enumerate() {
-            if !light.is_infinite() || self.sky_controls(light) {
+            if !light.is_infinite() {
+                continue;
+            }
+            if let (true, Some(booked)) = (self.sky_controls(light), self.sky_control) {
+                // The path books U′ as it goes (module `sky_control`); never
+                // light-sampled, the rest of the sky comes by escapes alone.
+                total += light.escaped_radiance(dir) - booked;
                 continue;
             }
             let le = light.escaped_radiance(dir);

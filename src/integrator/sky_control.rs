@@ -17,10 +17,14 @@
 //! sun and a sky) the image's variance falls 1.7× (BENCHMARKS.md, "The sky
 //! as a control variate").
 //!
-//! The environment itself is then not sampled (its radiance counts as 0
-//! for escaping rays and next-event estimation), and the estimate stays
-//! unbiased for any material, medium and depth limit: every change but
-//! roulette's is booked as it happened. A sample can be negative (a path
+//! The environment itself is then not light-sampled, and the estimate
+//! stays unbiased for any material, medium and depth limit: every change
+//! but roulette's is booked as it happened. The identity holds for any
+//! constant U′ booked in place of U, an escape then adding what the
+//! booking leaves out, β·(U − U′): where light samples would ask the sky
+//! (a sky alone), the scene books the share of it that a deep medium of
+//! its albedo returns (`scene::lights::sky_control`), closer to the light
+//! the walks meet than U itself, and the sky's shadow rays are saved. A sample can be negative (a path
 //! roulette let through that then ends at a vertex gives back sky light it
 //! was never booked): a dark pixel of few samples can fall below 0.
 

@@ -9,6 +9,7 @@ use crate::error::Result;
 use crate::geometry::Geometry;
 use crate::light::{environment_share, Environment, Light, LightPick};
 use crate::material::texture::Texture;
+use crate::math::color::Rgb;
 use crate::medium::Medium;
 use std::path::Path;
 
@@ -203,34 +204,28 @@ fn build_sun(
     })
 }
 
-/// The least single-scattering albedo (in every channel of every medium) at
-/// which the automatic `integrator.sky_control` takes a sky that light
-/// samples would ask as a control variate: the bench smoke over its ground
-/// under a sky alone measured 0.82× the efficiency with the control at
-/// albedo 0.9, 0.98× at 0.93, 1.25× at 0.95 (BENCHMARKS.md, "The sky as a
-/// control variate in bright media").
-pub const BRIGHT_ALBEDO: f32 = 0.95;
-
-/// `integrator.sky_control`: the constant environment's radiance where the
-/// path tracer takes it as a control variate (`integrator::sky_control`;
-/// the path tracer then neither samples nor meets that light). Automatic:
-/// on for the path tracer with a constant environment and a medium (where
-/// roulette's variance in the sky light it carries is the control
-/// variate's gain) when the light samples leave the sky out anyway (a sun
-/// brighter than it: [`environment_share`] of the powers `power` is 0) or
-/// when every medium is bright ([`bright_media`]: the light a walk meets is
-/// then close to the sky's, and the control's deviations small); off where
-/// the sky is light-sampled beside darker media (a sky-lit ground's light
-/// samples of the sky beat the continuation alone), where a key asks for
-/// the environment's own sampling (guiding, `environment_share`) or where a
-/// light slab has baked the sky into its light.
+/// `integrator.sky_control`: the constant U′ the path tracer books where it
+/// takes the constant environment (radiance U) as a control variate
+/// (`integrator::sky_control`; the path tracer then never light-samples
+/// that light, and an escape meets U − U′). Automatic: on for the path
+/// tracer with a constant environment and a medium (where roulette's
+/// variance in the sky light it carries is the control variate's gain),
+/// with U′ = U when the light samples leave the sky out anyway (a sun
+/// brighter than it: [`environment_share`] of the powers `power` is 0), and
+/// U′ = U·R(a) where they would ask it (a sky alone or brighter), R(a) the
+/// light a deep medium of the media's least albedo a returns under a
+/// uniform sky ([`sky_share_returned`]): the light a walk meets there. Off
+/// without a medium, for albedo grids under a light-sampled sky, where a
+/// key asks for the environment's own sampling (guiding,
+/// `environment_share`) or where a light slab has baked the sky into its
+/// light.
 pub(super) fn sky_control(
     desc: &SceneDesc,
     check: &Check,
     (lights, power): (&[Light], &[f32]),
     media: &[Medium],
     has_slabs: bool,
-) -> Result<Option<crate::math::color::Rgb>> {
+) -> Result<Option<Rgb>> {
     const KEY: &str = "integrator.sky_control";
     let integrator = &desc.integrator;
     let constant = lights.iter().find_map(Light::constant_environment);
@@ -251,29 +246,42 @@ pub(super) fn sky_control(
     } else {
         None
     };
-    let on = match integrator.sky_control {
+    let share = match sky_light_sampled(lights, power) {
+        false => Some(Rgb::WHITE),
+        true => sky_share_returned(media),
+    };
+    let share = match integrator.sky_control {
         Some(true) => match refusal {
             Some(message) => return Err(check.error(KEY, message)),
-            None => true,
+            None => Some(share.unwrap_or(Rgb::WHITE)),
         },
-        Some(false) => false,
-        None => {
-            refusal.is_none()
-                && !media.is_empty()
-                && integrator.environment_share.is_none()
-                && (!sky_light_sampled(lights, power) || bright_media(media))
-        }
+        Some(false) => None,
+        None if refusal.is_some() || media.is_empty() => None,
+        None if integrator.environment_share.is_some() => None,
+        None => share,
     };
-    Ok(constant.filter(|_| on))
+    Ok(constant.zip(share).map(|(sky, share)| sky * share))
 }
 
-/// Whether every medium scatters at least [`BRIGHT_ALBEDO`] of the light it
-/// meets in every channel (false for an albedo grid: not known everywhere).
-fn bright_media(media: &[Medium]) -> bool {
-    media.iter().all(|m| {
-        m.constant_albedo()
-            .is_some_and(|a| a.min_channel() >= BRIGHT_ALBEDO)
-    })
+/// R(a) = (1 − s) / (1 + s), s = √(1 − a), per channel, of the media's
+/// least albedo a: the share of a uniform sky's light a deep medium of
+/// albedo a returns (the two-stream similarity solution of a semi-infinite
+/// medium), the light a walk in it meets on average. `None` without media or
+/// for an albedo grid (not known everywhere). Measured against other
+/// constants under a sky alone (BENCHMARKS.md, "The sky as a control
+/// variate under a light-sampled sky"): the smoke of albedo 0.9 best near
+/// 0.3–0.5 of the sky (R = 0.52), the cloud of 0.99 near 0.9 (R = 0.82).
+fn sky_share_returned(media: &[Medium]) -> Option<Rgb> {
+    let mut least = Rgb::WHITE;
+    for medium in media {
+        let a = medium.constant_albedo()?;
+        least = Rgb::new(least.r.min(a.r), least.g.min(a.g), least.b.min(a.b));
+    }
+    let returned = |a: f32| {
+        let s = (1.0 - a.clamp(0.0, 1.0)).sqrt();
+        (1.0 - s) / (1.0 + s)
+    };
+    (!media.is_empty()).then(|| least.map(returned))
 }
 
 /// Whether the path tracer's light samples would ask the sky by default: a

@@ -46,7 +46,6 @@ use crate::sampling::SamplerKind;
 use adaptive_keys::build_adaptive;
 use camera::build_camera;
 use description::SceneDesc;
-pub use lights::BRIGHT_ALBEDO;
 use lights::{build_lights, light_powers, nee_pick, sky_control, smooth_sky_beside_others};
 use mlt_keys::{build_mlt, warn_mlt_keys};
 use std::path::{Path, PathBuf};
