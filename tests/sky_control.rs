@@ -55,7 +55,10 @@ fn the_control_variate_leaves_the_expectation_at_every_depth() {
         Vec3::new(1.4, 0.7, -0.5),
         Vec3::new(0.5, 0.0, 1.0),
     ];
-    for (max_depth, sun) in [0, 1, 2, 64].into_iter().flat_map(|d| [(d, true), (d, false)]) {
+    for (max_depth, sun) in [0, 1, 2, 64]
+        .into_iter()
+        .flat_map(|d| [(d, true), (d, false)])
+    {
         let lines = format!("max_depth = {max_depth}\nrr_depth = 1");
         let text = |key: &str| {
             let t = scene_text(&format!("{lines}\n{key}"));
@@ -211,7 +214,10 @@ fn the_key_defaults_and_refusals() {
     ] {
         let control = scene_from_str(&text).sky_control;
         let least = control.map(|c| c.min_channel());
-        assert!(least.is_some_and(|b| (b - booked).abs() < 1e-5), "{what}: {control:?}");
+        assert!(
+            least.is_some_and(|b| (b - booked).abs() < 1e-5),
+            "{what}: {control:?}"
+        );
     }
     for (what, text) in [
         ("no medium", base("", constant, false)),
