@@ -120,6 +120,10 @@ CYCLES_EXTRA["CLOUD_SKY"] = dict(
     CYCLES_EXTRA["CLOUD"], file="cycles_cloud_sky",
     title="the dense cloud under a uniform sky alone (albedo 0.99, HG 0.8)",
     lights=[{"type": "environment", "radiance": [0.6, 0.7, 0.9]}])
+CYCLES_EXTRA["CLOUD_MAP"] = dict(
+    CYCLES_EXTRA["CLOUD"], file="cycles_cloud_map",
+    title="the dense cloud under the HDR sky map alone (albedo 0.99, HG 0.8)",
+    lights=[{"type": "environment_map", "file": "scenes/sky.exr"}])
 # The same ground under scenes/sky.exr (a procedural HDR sky with a bright aureole).
 CYCLES_EXTRA["GROUND_MAP"] = dict(CYCLES_EXTRA["GROUND"], file="cycles_ground_map",
                                   title="the ground and boxes under an HDR sky map",
@@ -137,6 +141,7 @@ HARNESS = {
     "ground_map": ("GROUND_MAP", [160, 120]),
     "smoke_sky": ("SMOKE_SKY", [160, 160]),
     "cloud_sky": ("CLOUD_SKY", [160, 120]),
+    "cloud_map": ("CLOUD_MAP", [160, 120]),
 }
 bench.SCENES.update(CYCLES_EXTRA)
 
