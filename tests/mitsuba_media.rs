@@ -204,6 +204,9 @@ fn constant_grid_against_homogeneous(st: [f32; 3], al: &[f32], seed: u64) {
          bounds = {{ type = \"box\", min = [-1.0, -1.0, -1.0], max = [1.0, 1.0, 1.0] }}\n\
          phase = {{ type = \"hg\", g = 0.4 }}"
     ));
+    // An albedo grid keeps the sky's light samples; the homogeneous twin takes
+    // the sky as a control variate: two estimators of one mean.
+    assert!(grid.sky_control.is_none() && homogeneous.sky_control.is_some());
     let ray = Ray::new(
         Vec3::new(0.2, 0.1, -4.0),
         Vec3::new(0.05, 0.0, 1.0).normalize(),

@@ -170,6 +170,40 @@ fn a_bright_ball_under_a_sky_alone_takes_the_control_by_default() {
     assert_lower_error(&controlled, &sampled, 0.5, "bright ball");
 }
 
+/// The albedo the rule reads: per channel σs/σt, 1 where a channel has no
+/// extinction; a VDB medium's constant albedo under a sky alone gives the
+/// booked share R per channel; a medium that scatters nothing (R = 0) keeps
+/// the sky's light samples.
+#[test]
+fn the_rule_reads_each_mediums_albedo_per_channel() {
+    let sky_alone = |medium: &str| {
+        SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+            .environment(0.5)
+            .medium(medium)
+            .build()
+    };
+    let homogeneous = scene_from_str(&sky_alone(
+        "type = \"homogeneous\"\nsigma_a = [0.1, 0.0, 1.2]\nsigma_s = [0.9, 0.0, 2.8]\n\
+         bounds = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }",
+    ));
+    let albedo = homogeneous.media[0].constant_albedo().expect("constant");
+    assert_eq!([albedo.r, albedo.g, albedo.b], [0.9, 1.0, 0.7]);
+    let vdb = scene_from_str(&sky_alone(
+        "type = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\ndensity_scale = 4.0\n\
+         albedo = [0.8, 0.9, 0.99]",
+    ));
+    let returned = |a: f32| (1.0 - (1.0 - a).sqrt()) / (1.0 + (1.0 - a).sqrt());
+    let booked = vdb.sky_control.expect("a VDB medium under a sky alone");
+    for (b, a) in [(booked.r, 0.8), (booked.g, 0.9), (booked.b, 0.99)] {
+        assert!((b - 0.5 * returned(a)).abs() < 1e-6, "{booked:?}");
+    }
+    let absorber = scene_from_str(&sky_alone(
+        "type = \"homogeneous\"\nsigma_t = 1.0\nalbedo = 0.0\n\
+         bounds = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }",
+    ));
+    assert!(absorber.sky_control.is_none(), "an absorber");
+}
+
 /// The default: on for the path tracer with a constant sky and a medium,
 /// booking the sky whole under a brighter sun and the share a deep medium
 /// of the least albedo returns where light samples would ask the sky (a

@@ -24,9 +24,11 @@
 //! booking leaves out, β·(U − U′): where light samples would ask the sky
 //! (a sky alone), the scene books the share of it that a deep medium of
 //! its albedo returns (`scene::lights::sky_control`), closer to the light
-//! the walks meet than U itself, and the sky's shadow rays are saved. A sample can be negative (a path
-//! roulette let through that then ends at a vertex gives back sky light it
-//! was never booked): a dark pixel of few samples can fall below 0.
+//! the walks meet than U itself, and the sky's shadow rays are saved.
+//!
+//! A sample can be negative (a path roulette let through that then ends at
+//! a vertex gives back sky light it was never booked): a dark pixel of few
+//! samples can fall below 0.
 
 use crate::math::color::Rgb;
 

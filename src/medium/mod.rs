@@ -115,37 +115,26 @@ pub enum Medium {
     Moving(std::sync::Arc<MovingMedium>),
 }
 
+/// σs/σt per channel; 1 where a channel has no extinction (it absorbs nothing).
+fn albedo_of(sigma_a: Rgb, sigma_s: Rgb) -> Rgb {
+    let share = |a: f32, s: f32| if a + s > 0.0 { s / (a + s) } else { 1.0 };
+    Rgb::new(
+        share(sigma_a.r, sigma_s.r),
+        share(sigma_a.g, sigma_s.g),
+        share(sigma_a.b, sigma_s.b),
+    )
+}
+
 impl Medium {
     /// The single-scattering albedo σs/σt where it is the same at every point
     /// (`None` for an albedo grid).
     pub fn constant_albedo(&self) -> Option<Rgb> {
-        // A channel without extinction absorbs nothing: albedo 1 there.
-        let ratio = |sigma_a: Rgb, sigma_s: Rgb| {
-            let sigma_t = sigma_a + sigma_s;
-            Rgb::new(
-                if sigma_t.r > 0.0 {
-                    sigma_s.r / sigma_t.r
-                } else {
-                    1.0
-                },
-                if sigma_t.g > 0.0 {
-                    sigma_s.g / sigma_t.g
-                } else {
-                    1.0
-                },
-                if sigma_t.b > 0.0 {
-                    sigma_s.b / sigma_t.b
-                } else {
-                    1.0
-                },
-            )
-        };
         match self {
-            Medium::Homogeneous(m) => Some(ratio(m.sigma_a, m.sigma_s)),
-            Medium::HeightFog(m) => Some(ratio(m.sigma_a, m.sigma_s)),
+            Medium::Homogeneous(m) => Some(albedo_of(m.sigma_a, m.sigma_s)),
+            Medium::HeightFog(m) => Some(albedo_of(m.sigma_a, m.sigma_s)),
             Medium::Grid(m) => m.constant_albedo(),
             Medium::Interior(m) => match &m.content {
-                interior::InteriorContent::Homogeneous(h) => Some(ratio(h.sigma_a, h.sigma_s)),
+                interior::InteriorContent::Homogeneous(h) => Some(albedo_of(h.sigma_a, h.sigma_s)),
                 interior::InteriorContent::Grid(g) => g.constant_albedo(),
             },
             Medium::Moving(m) => m.inner().constant_albedo(),

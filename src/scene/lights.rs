@@ -215,10 +215,10 @@ fn build_sun(
 /// U′ = U·R(a) where they would ask it (a sky alone or brighter), R(a) the
 /// light a deep medium of the media's least albedo a returns under a
 /// uniform sky ([`sky_share_returned`]): the light a walk meets there. Off
-/// without a medium, for albedo grids under a light-sampled sky, where a
-/// key asks for the environment's own sampling (guiding,
-/// `environment_share`) or where a light slab has baked the sky into its
-/// light.
+/// without a medium, for albedo grids or media that scatter nothing under a
+/// light-sampled sky, where a key asks for the environment's own sampling
+/// (guiding, `environment_share`) or where a light slab has baked the sky
+/// into its light.
 pub(super) fn sky_control(
     desc: &SceneDesc,
     check: &Check,
@@ -266,8 +266,9 @@ pub(super) fn sky_control(
 /// R(a) = (1 − s) / (1 + s), s = √(1 − a), per channel, of the media's
 /// least albedo a: the share of a uniform sky's light a deep medium of
 /// albedo a returns (the two-stream similarity solution of a semi-infinite
-/// medium), the light a walk in it meets on average. `None` without media or
-/// for an albedo grid (not known everywhere). Measured against other
+/// medium), the light a walk in it meets on average. `None` without media,
+/// for an albedo grid (not known everywhere) or for media that scatter
+/// nothing (no share to book: the sky keeps its light samples). Measured against other
 /// constants under a sky alone (BENCHMARKS.md, "The sky as a control
 /// variate under a light-sampled sky"): the smoke of albedo 0.9 best near
 /// 0.3–0.5 of the sky (R = 0.52), the cloud of 0.99 near 0.9 (R = 0.82).
@@ -281,7 +282,9 @@ fn sky_share_returned(media: &[Medium]) -> Option<Rgb> {
         let s = (1.0 - a.clamp(0.0, 1.0)).sqrt();
         (1.0 - s) / (1.0 + s)
     };
-    (!media.is_empty()).then(|| least.map(returned))
+    (!media.is_empty())
+        .then(|| least.map(returned))
+        .filter(|share| share.max_channel() > 0.0)
 }
 
 /// Whether the path tracer's light samples would ask the sky by default: a
