@@ -225,6 +225,27 @@ fn constant_grid_against_homogeneous(st: [f32; 3], al: &[f32], seed: u64) {
     );
 }
 
+/// An RGB σt grid with a constant albedo: the albedo is known everywhere,
+/// so under a sky alone the sky is a control variate (module
+/// `integrator::sky_control`), as for a homogeneous medium.
+#[test]
+fn a_sigma_t_grid_with_a_constant_albedo_takes_the_sky_as_a_control() {
+    let dir = tempfile::tempdir().unwrap();
+    let sigma = dir.path().join("s.vol");
+    write_vol(
+        &sigma,
+        [3, 2, 4],
+        3,
+        [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0],
+        pattern,
+    );
+    let scene = scene_with(&format!(
+        "type = \"vol\"\nsigma_t_file = {:?}\nalbedo = 0.6\nuse_grid_bbox = true",
+        sigma.display().to_string()
+    ));
+    assert!(scene.sky_control.is_some());
+}
+
 #[test]
 fn a_constant_grid_medium_matches_the_homogeneous_one() {
     constant_grid_against_homogeneous([0.8, 1.6, 2.4], &[0.9, 0.5, 0.2], 11);
