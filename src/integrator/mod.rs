@@ -169,7 +169,7 @@ impl Scene {
             if !light.is_infinite() {
                 continue;
             }
-            if let (true, Some(booked)) = (self.sky_controls(light), self.sky_control) {
+            if let Some(booked) = self.booked_sky(light) {
                 // The path books U′ as it goes (module `sky_control`); never
                 // light-sampled, the rest of the sky comes by escapes alone.
                 total += light.escaped_radiance(dir) - booked;
@@ -191,10 +191,18 @@ impl Scene {
         total
     }
 
+    /// The constant U′ the path tracer books for `light` where it leaves that
+    /// light to the sky control variate (module [`sky_control`]).
+    #[inline]
+    fn booked_sky(&self, light: &Light) -> Option<Rgb> {
+        self.sky_control
+            .filter(|_| light.constant_environment().is_some())
+    }
+
     /// Whether the path tracer leaves `light` to the sky control variate (module [`sky_control`]).
     #[inline]
     pub(crate) fn sky_controls(&self, light: &Light) -> bool {
-        self.sky_control.is_some() && light.constant_environment().is_some()
+        self.booked_sky(light).is_some()
     }
 
     /// Transmittance along `ray` over `[0, t_max)` through every medium (1 with no media).

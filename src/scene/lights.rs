@@ -268,10 +268,11 @@ pub(super) fn sky_control(
 /// albedo a returns (the two-stream similarity solution of a semi-infinite
 /// medium), the light a walk in it meets on average. `None` without media,
 /// for an albedo grid (not known everywhere) or for media that scatter
-/// nothing (no share to book: the sky keeps its light samples). Measured against other
-/// constants under a sky alone (BENCHMARKS.md, "The sky as a control
-/// variate under a light-sampled sky"): the smoke of albedo 0.9 best near
-/// 0.3–0.5 of the sky (R = 0.52), the cloud of 0.99 near 0.9 (R = 0.82).
+/// nothing (no share to book: the sky keeps its light samples). Measured
+/// against other constants under a sky alone (BENCHMARKS.md, "The sky as a
+/// control variate under a light-sampled sky"): the smoke of albedo 0.9
+/// best near 0.3–0.5 of the sky (R = 0.52), the cloud of 0.99 near 0.9
+/// (R = 0.82).
 fn sky_share_returned(media: &[Medium]) -> Option<Rgb> {
     let mut least = Rgb::WHITE;
     for medium in media {
