@@ -39,6 +39,22 @@ fn without_the_sun(text: &str) -> String {
     format!("{}{}", &text[..start], &text[end..])
 }
 
+/// `medium` under a uniform sky of `radiance` alone, seen from z = 4, with `integrator` lines.
+fn under_a_sky_alone(integrator: &str, radiance: impl std::fmt::Debug, medium: &str) -> String {
+    SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
+        .integrator(integrator)
+        .environment(radiance)
+        .medium(medium)
+        .build()
+}
+
+/// R(a) = (1 − s)/(1 + s), s = √(1 − a): the share of a light-sampled sky
+/// the control books over media of least albedo a (the light a deep medium
+/// of albedo a returns).
+fn returned_share(a: f32) -> f32 {
+    (1.0 - (1.0 - a).sqrt()) / (1.0 + (1.0 - a).sqrt())
+}
+
 /// The same expectation with the control variate on and off, along rays
 /// through the ball, the glass, the mirror and the ground, at the depth
 /// limits 0 (emission only), 1, 2 and 64 with roulette from the first
@@ -147,15 +163,13 @@ fn the_control_variate_lowers_the_error_in_a_bright_fog_layer() {
 #[test]
 fn a_bright_ball_under_a_sky_alone_takes_the_control_by_default() {
     let text = |key: &str| {
-        SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
-            .integrator(&format!("max_depth = 1000\nrr_depth = 5\n{key}"))
-            .environment([0.6, 0.7, 0.9])
-            .medium(
-                "type = \"homogeneous\"\nsigma_t = 4.0\nalbedo = 0.99\n\
-                 phase = { type = \"hg\", g = 0.8 }\n\
-                 bounds = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }",
-            )
-            .build()
+        under_a_sky_alone(
+            &format!("max_depth = 1000\nrr_depth = 5\n{key}"),
+            [0.6, 0.7, 0.9],
+            "type = \"homogeneous\"\nsigma_t = 4.0\nalbedo = 0.99\n\
+             phase = { type = \"hg\", g = 0.8 }\n\
+             bounds = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }",
+        )
     };
     let auto = scene_from_str(&text(""));
     let off = scene_from_str(&text("sky_control = false"));
@@ -176,12 +190,7 @@ fn a_bright_ball_under_a_sky_alone_takes_the_control_by_default() {
 /// the sky's light samples.
 #[test]
 fn the_rule_reads_each_mediums_albedo_per_channel() {
-    let sky_alone = |medium: &str| {
-        SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
-            .environment(0.5)
-            .medium(medium)
-            .build()
-    };
+    let sky_alone = |medium: &str| under_a_sky_alone("", 0.5, medium);
     let homogeneous = scene_from_str(&sky_alone(
         "type = \"homogeneous\"\nsigma_a = [0.1, 0.0, 1.2]\nsigma_s = [0.9, 0.0, 2.8]\n\
          bounds = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }",
@@ -192,10 +201,9 @@ fn the_rule_reads_each_mediums_albedo_per_channel() {
         "type = \"vdb\"\nfile = \"volumes/smoke_plume.vdb\"\ndensity_scale = 4.0\n\
          albedo = [0.8, 0.9, 0.99]",
     ));
-    let returned = |a: f32| (1.0 - (1.0 - a).sqrt()) / (1.0 + (1.0 - a).sqrt());
     let booked = vdb.sky_control.expect("a VDB medium under a sky alone");
     for (b, a) in [(booked.r, 0.8), (booked.g, 0.9), (booked.b, 0.99)] {
-        assert!((b - 0.5 * returned(a)).abs() < 1e-6, "{booked:?}");
+        assert!((b - 0.5 * returned_share(a)).abs() < 1e-6, "{booked:?}");
     }
     let absorber = scene_from_str(&sky_alone(
         "type = \"homogeneous\"\nsigma_t = 1.0\nalbedo = 0.0\n\
@@ -228,22 +236,17 @@ fn the_key_defaults_and_refusals() {
     let on = scene_from_str(&base("", constant, true));
     assert_eq!(on.sky_control.map(|s| s.r), Some(0.25));
     let sky_alone = |albedo: f32| {
-        SceneText::view([0.0, 0.0, 4.0], [0.0; 3])
-            .light(constant)
-            .medium(&fog.replace("albedo = 0.9", &format!("albedo = {albedo}")))
-            .build()
+        let medium = fog.replace("albedo = 0.9", &format!("albedo = {albedo}"));
+        under_a_sky_alone("", 0.25, &medium)
     };
-    // Under a light-sampled sky the control books the share R(a) = (1 − s)/(1 + s),
-    // s = √(1 − a), that a deep medium of the least albedo a returns.
-    let returned = |a: f32| (1.0 - (1.0 - a).sqrt()) / (1.0 + (1.0 - a).sqrt());
     for (what, text, booked) in [
-        ("a sky alone", sky_alone(0.9), 0.25 * returned(0.9)),
+        ("a sky alone", sky_alone(0.9), 0.25 * returned_share(0.9)),
         ("a white medium under a sky alone", sky_alone(1.0), 0.25),
         (
             "a sky brighter than the sun",
             base("", "type = \"environment\"\nradiance = 20.0", true)
                 .replace("albedo = 0.9", "albedo = [0.99, 0.97, 0.95]"),
-            20.0 * returned(0.95),
+            20.0 * returned_share(0.95),
         ),
     ] {
         let control = scene_from_str(&text).sky_control;
