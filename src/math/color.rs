@@ -76,6 +76,10 @@ impl Rgb {
 
     /// Per-channel `exp(-self)`, the transmittance of an optical depth.
     pub fn exp_neg(self) -> Rgb {
+        // Grey media are the common case: one exp instead of three.
+        if self.r == self.g && self.g == self.b {
+            return Rgb::splat((-self.r).exp());
+        }
         self.map(|v| (-v).exp())
     }
 
