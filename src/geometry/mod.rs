@@ -1,6 +1,7 @@
 //! Shapes, intersection records and the BVH (obvhs) over all primitives.
 
 pub mod closed;
+mod flat;
 pub mod moving;
 pub mod shapes;
 pub mod slab;
@@ -57,9 +58,11 @@ pub struct Geometry {
     source: Vec<u32>,
     /// Per-corner texture coordinates of each primitive (same order), or empty when no mesh has any.
     texcoords: Vec<[Vec2; 3]>,
-    /// The BVH over `primitives[..in_bvh]`.
+    /// The BVH over `primitives[..in_bvh]`, unless `flat` holds them.
     bvh: Option<Bvh2>,
-    /// Primitives in the BVH; those after them are tested by every ray (see `split_loose`).
+    /// A small scene's runs of `primitives[..in_bvh]`, tested in turn instead of a BVH (module `flat`).
+    flat: flat::FlatRuns,
+    /// Primitives in the BVH or the flat runs; those after them are tested by every ray (see `split_loose`).
     in_bvh: usize,
     /// Levels of the BVH, which bounds the traversal stack.
     depth: usize,
@@ -103,10 +106,11 @@ impl Geometry {
             .iter()
             .fold(Bounds3::EMPTY, |acc, (p, _)| acc.union(&p.bounds()));
         let (tree, loose) = split_loose(&items, &bounds);
-        let (bvh, order) = if tree.is_empty() {
-            (None, loose)
+        let pad = ties::tie_breaking_pad(&bounds);
+        let flat = flat_runs_of(&items, &tree, pad);
+        let (bvh, order) = if tree.is_empty() || flat.is_some() {
+            (None, tree.iter().copied().chain(loose).collect())
         } else {
-            let pad = ties::tie_breaking_pad(&bounds);
             let boxes: Vec<Boxed> = tree
                 .iter()
                 .enumerate()
@@ -116,7 +120,7 @@ impl Geometry {
             let bvh = build_bvh2(&boxes, BvhBuildParams::medium_build(), &mut build_time);
             // BVH leaf ranges index the primitives directly; the loose ones follow.
             let order = bvh.primitive_indices.iter().map(|&i| tree[i as usize]);
-            let order = order.chain(loose).collect();
+            let order: Vec<usize> = order.chain(loose).collect();
             (Some(bvh), order)
         };
         let (primitives, primitive_shape): (Vec<Primitive>, Vec<u32>) =
@@ -147,6 +151,7 @@ impl Geometry {
             source: order.iter().map(|&i| i as u32).collect(),
             texcoords,
             in_bvh: tree.len(),
+            flat: flat.unwrap_or_default(),
             depth: bvh.as_ref().map_or(0, tree_depth),
             quad_index,
             quads,
@@ -296,6 +301,17 @@ impl Geometry {
                 t_bound = offer(h, id as u32);
             }
         }
+        if !self.flat.is_empty() {
+            let lanes = flat::RayLanes::new(ray);
+            self.flat.visit(&lanes, t_bound, |run, mut bound| {
+                for id in run {
+                    if let Some(h) = self.hit_primitive(id, ray, bound) {
+                        bound = offer(h, id as u32);
+                    }
+                }
+                Some(bound)
+            });
+        }
         if let Some(bvh) = &self.bvh {
             let bvh_ray = BvhRay::new(ray.origin.into(), ray.direction.into(), T_MIN, t_bound);
             self.traverse(bvh, bvh_ray, &mut RayHit::none(), |node, r, _| {
@@ -321,11 +337,16 @@ impl Geometry {
 
     /// Calls `hit(t, geometric_normal)` for every primitive the ray meets in `(0, t_max)`, in no order.
     pub fn for_each_hit(&self, ray: &Ray, t_max: f32, mut hit: impl FnMut(f32, Vec3)) {
-        for id in self.in_bvh..self.primitives.len() {
+        let mut each = |id: usize| {
             if let Some(h) = self.hit_primitive(id, ray, t_max) {
                 hit(h.t, h.geometric_normal);
             }
-        }
+        };
+        self.flat.visit(&flat::RayLanes::new(ray), t_max, |run, t| {
+            run.for_each(&mut each);
+            Some(t)
+        });
+        (self.in_bvh..self.primitives.len()).for_each(each);
         let Some(bvh) = self.bvh.as_ref() else {
             return;
         };
@@ -345,11 +366,21 @@ impl Geometry {
     }
 
     fn occluded_still(&self, ray: &Ray, t_max: f32) -> bool {
-        if (self.in_bvh..self.primitives.len()).any(|id| {
+        let blocks = |id: usize| {
             self.hit_primitive(id, ray, t_max)
                 .is_some_and(|h| h.t < t_max)
-        }) {
+        };
+        if (self.in_bvh..self.primitives.len()).any(blocks) {
             return true;
+        }
+        if !self.flat.is_empty() {
+            let mut blocked = false;
+            self.flat
+                .visit(&flat::RayLanes::new(ray), t_max, |mut run, t| {
+                    blocked = run.any(blocks);
+                    (!blocked).then_some(t)
+                });
+            return blocked;
         }
         let Some(bvh) = self.bvh.as_ref() else {
             return false;
@@ -451,6 +482,17 @@ fn split_loose(items: &[(Primitive, u32)], scene: &Bounds3) -> (Vec<usize>, Vec<
     (tree, loose)
 }
 
+/// The flat runs (module `flat`) of the items `tree`, in their order, where
+/// there are few enough of them to test in turn; `None` for a BVH.
+fn flat_runs_of(items: &[(Primitive, u32)], tree: &[usize], pad: f32) -> Option<flat::FlatRuns> {
+    if tree.is_empty() {
+        return None;
+    }
+    let bounds: Vec<Bounds3> = tree.iter().map(|&i| items[i].0.bounds()).collect();
+    let shapes: Vec<u32> = tree.iter().map(|&i| items[i].1).collect();
+    flat::flat_runs(&bounds, &shapes, pad)
+}
+
 /// Number of node levels of `bvh` (a lone leaf root is 1): a traversal holds
 /// at most one pending node per level.
 fn tree_depth(bvh: &Bvh2) -> usize {
@@ -539,7 +581,8 @@ mod tests {
             edge_u: Vec3::new(100.0, 0.0, 0.0),
             edge_v: Vec3::new(0.0, 0.0, 100.0),
         };
-        for count in [0usize, 3, 40] {
+        // No BVH (3), flat runs (8), a BVH (40).
+        for count in [0usize, 3, 8, 40] {
             let mut items = vec![(ground, 0)];
             for i in 0..count {
                 let a = i as f32 * 0.7;
@@ -572,6 +615,90 @@ mod tests {
                 assert_eq!(found, brute, "{count} spheres, ray {ray:?}");
                 assert_eq!(geometry.occluded(&ray, t_max), brute.is_some());
             }
+        }
+    }
+
+    /// The six faces of an axis-aligned box of centre `c` and half-size `h`.
+    fn box_faces(c: Vec3, h: Vec3) -> Vec<Primitive> {
+        let mut faces = Vec::new();
+        for axis in 0..3 {
+            for sign in [-1.0f32, 1.0] {
+                let (mut corner, mut edge_u, mut edge_v) = (c - h, Vec3::ZERO, Vec3::ZERO);
+                corner[axis] = c[axis] + sign * h[axis];
+                edge_u[(axis + 1) % 3] = 2.0 * h[(axis + 1) % 3];
+                edge_v[(axis + 2) % 3] = 2.0 * h[(axis + 2) % 3];
+                faces.push(Primitive::Parallelogram {
+                    corner,
+                    edge_u,
+                    edge_v,
+                });
+            }
+        }
+        faces
+    }
+
+    /// A ground and a few boxes (each one shape of six faces: flat runs)
+    /// answer as testing every face does, first face in the input winning a
+    /// tie, for rays aimed anywhere and at the boxes' edges and corners.
+    #[test]
+    fn flat_runs_of_boxes_find_what_every_face_finds() {
+        let ground = Primitive::Parallelogram {
+            corner: Vec3::new(-50.0, 0.0, -50.0),
+            edge_u: Vec3::new(100.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 0.0, 100.0),
+        };
+        let mut items = vec![(ground, 0)];
+        let mut corners = Vec::new();
+        for i in 0..6 {
+            let (c, h) = (
+                Vec3::new(3.0 * i as f32 - 7.0, 1.0, -0.7 * i as f32),
+                Vec3::splat(0.5 + 0.1 * i as f32),
+            );
+            items.extend(box_faces(c, h).into_iter().map(|f| (f, i + 1)));
+            corners.extend([
+                c + h,
+                c - h,
+                c + Vec3::new(h.x, -h.y, 0.0),
+                c + Vec3::new(0.0, h.y, h.z),
+            ]);
+        }
+        let geometry = Geometry::new(items.clone());
+        assert!(geometry.bvh.is_none() && !geometry.flat.is_empty());
+        let mut rng = crate::sampling::Sampler::from_seed(4);
+        for k in 0..6000 {
+            let o = Vec3::new(
+                rng.next_1d() * 30.0 - 15.0,
+                rng.next_1d() * 6.0 + 0.01,
+                rng.next_1d() * 20.0 - 10.0,
+            );
+            let d = match k % 2 {
+                0 => crate::sampling::warp::square_to_uniform_sphere(rng.next_2d()),
+                _ => (corners[k % corners.len()] - o).normalize(),
+            };
+            let ray = Ray::new(o, d);
+            let t_max = if k % 3 == 0 { 4.0 } else { f32::INFINITY };
+            // Every face by the geometry's own test, ties to the first in the input.
+            let sources = geometry.primitive_sources();
+            let hits: Vec<(f32, u32, usize)> = (0..items.len())
+                .filter_map(|id| {
+                    let h = geometry.hit_primitive(id, &ray, t_max)?;
+                    Some((h.t, geometry.primitive_shapes()[id], sources[id] as usize))
+                })
+                .collect();
+            let brute = hits
+                .iter()
+                .copied()
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+            let found = geometry.intersect(&ray, t_max).map(|h| {
+                let id = h.primitive as usize;
+                (h.t, h.shape, sources[id] as usize)
+            });
+            assert_eq!(found, brute, "ray {ray:?} to {t_max}");
+            assert_eq!(geometry.occluded(&ray, t_max), brute.is_some());
+            let mut all = 0;
+            geometry.for_each_hit(&ray, t_max, |_, _| all += 1);
+            let every = hits.len();
+            assert_eq!(all, every, "ray {ray:?}");
         }
     }
 
