@@ -518,6 +518,13 @@ fn homogeneous_free_flight(
     };
     let mut tally = Tally::default();
     let mut t = seg.t0;
+    // Every tentative collision lies inside the region: its coefficients are the medium's own.
+    let props = MediumProperties {
+        sigma_a: medium.sigma_a,
+        sigma_s: medium.sigma_s,
+        emission: medium.emission,
+        phase: medium.phase,
+    };
     for _ in 0..MAX_TENTATIVE_COLLISIONS {
         let tau = -(1.0 - sampler.next_1d()).ln();
         let (sigma, length) = (seg.sigma_maj, seg.t1 - t);
@@ -534,7 +541,6 @@ fn homogeneous_free_flight(
             sigma_maj: sigma,
             sigma_control: seg.sigma_control,
         };
-        let props = medium.properties(ray.at(t));
         match collide(
             &props, &collision, throughput, radiance, sampler, &mut tally,
         ) {
