@@ -20,7 +20,7 @@
 //! between these bounds; the bounds are then widened by a relative 2⁻²⁰ to
 //! absorb the rounding of the interpolation.
 
-use glam::{I64Vec3, IVec3, Vec3};
+use glam::{BVec3, I64Vec3, IVec3, Vec3, Vec3A};
 
 use crate::volume::{Block, FloatGrid};
 
@@ -189,29 +189,29 @@ impl MajorantGrid {
 
     /// Starts a DDA walk of the index-space ray `o + t·d` over `[t0, t1]` (already clipped to the grid).
     pub fn walk(&self, o: Vec3, d: Vec3, t0: f32, t1: f32) -> Dda {
-        let g = (o + d * t0 - self.origin) / self.cell;
+        // All three axes in SIMD lanes (one walk per free flight and shadow ray).
+        let (o, d) = (Vec3A::from(o), Vec3A::from(d));
+        let (origin, size) = (Vec3A::from(self.origin), Vec3A::from(self.cell));
+        let g = (o + d * t0 - origin) / size;
         let cell = g
             .floor()
             .as_ivec3()
             .clamp(IVec3::ZERO, self.dims - IVec3::ONE);
-        let step = IVec3::select(d.cmpge(Vec3::ZERO), IVec3::ONE, IVec3::NEG_ONE);
-        let mut t_next = Vec3::INFINITY;
-        let mut t_delta = Vec3::INFINITY;
-        for a in 0..3 {
-            if d[a] != 0.0 {
-                let boundary = cell[a] + (step[a] > 0) as i32;
-                let plane = self.origin[a] + boundary as f32 * self.cell[a];
-                t_next[a] = (plane - o[a]) / d[a];
-                t_delta[a] = self.cell[a] / d[a].abs();
-            }
-        }
+        let ahead = d.cmpge(Vec3A::ZERO).bitmask();
+        let ahead = BVec3::new(ahead & 1 != 0, ahead & 2 != 0, ahead & 4 != 0);
+        let step = IVec3::select(ahead, IVec3::ONE, IVec3::NEG_ONE);
+        let boundary = cell + IVec3::select(ahead, IVec3::ONE, IVec3::ZERO);
+        let plane = origin + boundary.as_vec3a() * size;
+        let moving = d.cmpne(Vec3A::ZERO);
+        let t_next = Vec3A::select(moving, (plane - o) / d, Vec3A::INFINITY);
+        let t_delta = Vec3A::select(moving, size / d.abs(), Vec3A::INFINITY);
         Dda {
             cell,
             step,
             t: t0,
             t_end: t1,
-            t_next,
-            t_delta,
+            t_next: t_next.into(),
+            t_delta: t_delta.into(),
         }
     }
 }
