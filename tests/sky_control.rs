@@ -1,7 +1,8 @@
-//! The constant sky as a control variate (`integrator.sky_control`): the
-//! same expectation as the plain path tracer for every depth limit,
-//! material and medium; exactly the sky in a lossless furnace; lower error
-//! in a bright fog layer; its key, default and refusals.
+//! The sky as a control variate (`integrator.sky_control`): the same
+//! expectation as the plain path tracer for every depth limit, material and
+//! medium, under a constant sky, a gradient sky and a smooth map; exactly
+//! the sky in a lossless furnace; lower error in a bright fog layer; its
+//! key, default and refusals.
 
 mod common;
 
@@ -12,10 +13,18 @@ use std::path::Path;
 /// An absorbing HG ball (albedo 0.7) over a diffuse ground beside a glass
 /// ball and a mirror, under a sun and a blue sky, with `integrator` lines.
 fn scene_text(integrator: &str) -> String {
+    scene_under(
+        integrator,
+        "type = \"environment\"\nradiance = [0.3, 0.4, 0.6]",
+    )
+}
+
+/// [`scene_text`] under the environment light of `environment` lines.
+fn scene_under(integrator: &str, environment: &str) -> String {
     SceneText::view([0.0, 1.0, 6.0], [0.0, 1.0, 0.0])
         .integrator(integrator)
         .sun([0.3, -0.8, -0.4], 3.0)
-        .environment([0.3, 0.4, 0.6])
+        .light(environment)
         .quad([0.0; 3], [0.0, 1.0, 0.0], [20.0, 20.0])
         .with("material = { type = \"diffuse\", albedo = 0.45 }")
         .sphere([-1.3, 0.8, 0.0], 0.6)
@@ -216,8 +225,8 @@ fn the_rule_reads_each_mediums_albedo_per_channel() {
 /// booking the sky whole under a brighter sun and the share a deep medium
 /// of the least albedo returns where light samples would ask the sky (a
 /// sky alone or brighter); off without a medium, with guiding, with
-/// `environment_share` or a gradient sky; `true` where it cannot apply is
-/// refused naming the key.
+/// `environment_share` or a gradient sky over a black ground; `true` where
+/// it cannot apply is refused naming the key.
 #[test]
 fn the_key_defaults_and_refusals() {
     let fog = "type = \"homogeneous\"\nsigma_t = 0.1\nalbedo = 0.9\n\
@@ -296,5 +305,161 @@ fn the_key_defaults_and_refusals() {
             .unwrap_or_else(|| panic!("{what}: accepted"))
             .to_string();
         assert!(err.contains("integrator.sky_control"), "{what}: {err}");
+    }
+}
+
+/// A gradient sky with a ground (floor 0.1 in red and green, 0.15 in blue).
+const GRADIENT: &str = "type = \"sky\"\nzenith = [0.2, 0.3, 0.7]\nhorizon = [0.5, 0.55, 0.6]\nground = [0.1, 0.1, 0.15]";
+
+/// The light lines of `scenes/sky.exr`, a smooth HDR sky (its peak 10 times its average).
+fn smooth_map() -> String {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/sky.exr");
+    format!(
+        "type = \"environment_map\"\nfile = {:?}",
+        file.display().to_string()
+    )
+}
+
+/// The light lines of a 32 × 16 map of radiance 0.5 with a sun: one texel
+/// of radiance 5000, written into `dir`.
+fn map_with_a_sun(dir: &Path) -> String {
+    let file = dir.join("sun.exr");
+    exr::prelude::write_rgb_file(&file, 32, 16, |x, y| {
+        let v = if (x, y) == (8, 4) { 5000.0f32 } else { 0.5 };
+        (v, v, v)
+    })
+    .expect("write the map");
+    format!(
+        "type = \"environment_map\"\nfile = {:?}",
+        file.display().to_string()
+    )
+}
+
+/// Under a gradient sky and under a smooth map the control keeps the
+/// light samples' expectation, booking at most the environment's floor
+/// (escapes meet L(ω) − U′ ≥ 0), at depth limits 1, 2 and 64 with roulette
+/// from the first event, with and without the sun.
+#[test]
+fn the_control_keeps_the_expectation_under_a_gradient_sky_and_a_map() {
+    let eye = Vec3::new(0.0, 1.0, 6.0);
+    let targets = [Vec3::new(0.0, 1.2, 0.0), Vec3::new(0.5, 0.0, 1.0)];
+    for environment in [GRADIENT.to_string(), smooth_map()] {
+        for (max_depth, sun) in [1, 2, 64].into_iter().flat_map(|d| [(d, true), (d, false)]) {
+            let text = |key: &str| {
+                let t = scene_under(
+                    &format!("max_depth = {max_depth}\nrr_depth = 1\n{key}"),
+                    &environment,
+                );
+                match sun {
+                    true => t,
+                    false => without_the_sun(&t),
+                }
+            };
+            let on = scene_from_str(&text(""));
+            let off = scene_from_str(&text("sky_control = false"));
+            let booked = on.sky_control.expect("on by default");
+            let light = on
+                .lights
+                .iter()
+                .find(|l| l.is_environment())
+                .expect("an environment");
+            let (floor, _) = light
+                .smooth_environment()
+                .expect("environment")
+                .expect("smooth");
+            assert!(
+                (floor - booked).min_channel() >= 0.0,
+                "booked {booked:?} above the floor {floor:?}"
+            );
+            for target in targets {
+                let ray = Ray::new(eye, (target - eye).normalize());
+                let what =
+                    format!("{environment}: max_depth {max_depth}, sun {sun}, toward {target:?}");
+                let a = estimate_ray(&off, ray, 40_000, 1);
+                let b = estimate_ray(&on, ray, 40_000, 2);
+                assert_same(&a, &b, &what);
+            }
+        }
+    }
+}
+
+/// What the control books under a gradient sky and a map: the floor (the
+/// least radiance of any direction) under a brighter sun, the least of the
+/// floor and R(a)·average under the environment alone; the environment's
+/// light samples go (a map's too, which otherwise keeps its share by
+/// power); a floor below a fifth of the average (a black ground) and a map
+/// with a sun in it keep their light samples, and `true` is refused there
+/// saying why.
+#[test]
+fn the_rule_books_the_floor_of_a_gradient_sky_or_a_smooth_map() {
+    let fog = "type = \"homogeneous\"\nsigma_t = 0.1\nalbedo = 0.9\n\
+               bounds = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }";
+    let scene = |integrator: &str, environment: &str, sun: bool| {
+        let t = SceneText::view([0.0, 0.0, 4.0], [0.0; 3]).integrator(integrator);
+        let t = match sun {
+            true => t.sun([0.0, -1.0, 0.0], 20.0),
+            false => t,
+        };
+        t.light(environment).medium(fog).build()
+    };
+    let under_the_sun = scene_from_str(&scene("", GRADIENT, true));
+    let booked = under_the_sun
+        .sky_control
+        .expect("a gradient sky under a sun");
+    assert_eq!([booked.r, booked.g, booked.b], [0.1, 0.1, 0.15]);
+    let alone = scene_from_str(&scene("", GRADIENT, false));
+    let booked = alone.sky_control.expect("a gradient sky alone");
+    let env = brume::light::Environment::Sky {
+        zenith: brume::math::color::Rgb::new(0.2, 0.3, 0.7),
+        horizon: brume::math::color::Rgb::new(0.5, 0.55, 0.6),
+        ground: brume::math::color::Rgb::new(0.1, 0.1, 0.15),
+        up: Vec3::Y,
+    };
+    let average = env.average() * returned_share(0.9);
+    let expected = [
+        0.1f32.min(average.r),
+        0.1f32.min(average.g),
+        0.15f32.min(average.b),
+    ];
+    assert_eq!(
+        [booked.r, booked.g, booked.b],
+        expected,
+        "average {average:?}"
+    );
+    let map = scene_from_str(&scene("", &smooth_map(), true));
+    let index = map
+        .lights
+        .iter()
+        .position(|l| l.is_environment())
+        .expect("the map");
+    assert!(map.sky_control.is_some(), "a smooth map");
+    assert_eq!(map.nee_pick.pmf(index), 0.0, "the map's light samples");
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let black_ground = GRADIENT.replace("ground = [0.1, 0.1, 0.15]", "ground = 0.0");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("test.toml");
+    for (what, environment, why) in [
+        ("a black ground", black_ground, "least radiance"),
+        (
+            "a sun in the map",
+            map_with_a_sun(dir.path()),
+            "brightest texel",
+        ),
+    ] {
+        assert!(
+            scene_from_str(&scene("", &environment, false))
+                .sky_control
+                .is_none(),
+            "{what}"
+        );
+        let desc = brume::scene::parse(&scene("sky_control = true", &environment, false), &file)
+            .expect("parse");
+        let err = brume::scene::build(&desc, &file, Path::new(env!("CARGO_MANIFEST_DIR")))
+            .err()
+            .unwrap_or_else(|| panic!("{what}: accepted"))
+            .to_string();
+        assert!(
+            err.contains("integrator.sky_control") && err.contains(why),
+            "{what}: {err}"
+        );
     }
 }

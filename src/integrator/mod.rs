@@ -132,9 +132,9 @@ pub struct Scene {
     pub settings: Settings,
     /// AOVs to write beside the beauty (`[film] aovs`).
     pub aovs: Vec<aov::Aov>,
-    /// The constant U′ the path tracer books where it takes the constant
+    /// The constant U′ the path tracer books where it takes the (smooth)
     /// environment as a control variate (module [`sky_control`]; the path
-    /// tracer then never light-samples it, and escapes meet U − U′).
+    /// tracer then never light-samples it, and an escape along ω meets L(ω) − U′).
     pub sky_control: Option<Rgb>,
 }
 
@@ -195,8 +195,7 @@ impl Scene {
     /// light to the sky control variate (module [`sky_control`]).
     #[inline]
     fn booked_sky(&self, light: &Light) -> Option<Rgb> {
-        self.sky_control
-            .filter(|_| light.constant_environment().is_some())
+        self.sky_control.filter(|_| light.is_environment())
     }
 
     /// Whether the path tracer leaves `light` to the sky control variate (module [`sky_control`]).

@@ -1,4 +1,4 @@
-//! The constant environment as a control variate of the path tracer
+//! The environment as a control variate of the path tracer
 //! (`integrator.sky_control`).
 //!
 //! Under a constant environment of radiance U, the radiance field is
@@ -24,7 +24,10 @@
 //! booking leaves out, β·(U − U′): where light samples would ask the sky
 //! (a sky alone), the scene books the share of it that a deep medium of
 //! its albedo returns (`scene::lights::sky_control`), closer to the light
-//! the walks meet than U itself, and the sky's shadow rays are saved.
+//! the walks meet than U itself, and the sky's shadow rays are saved. Nor
+//! need the environment be constant: under a gradient sky or a smooth map
+//! the path books a constant U′ at most the environment's floor (its least
+//! radiance), and an escape along ω adds β·(L(ω) − U′), never negative.
 //!
 //! A sample can be negative (a path roulette let through that then ends at
 //! a vertex gives back sky light it was never booked): a dark pixel of few
@@ -35,7 +38,7 @@ use crate::math::color::Rgb;
 /// The sky light one path has booked so far.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SkyBook {
-    /// The environment's constant radiance U.
+    /// The constant radiance U′ booked.
     sky: Rgb,
     /// The throughput whose sky light U·β is booked.
     booked: Rgb,

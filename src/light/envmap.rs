@@ -157,6 +157,28 @@ impl EnvMap {
         lerp(top, bottom, ty)
     }
 
+    /// The least radiance of any texel, per channel: a floor of every
+    /// direction's radiance, filtered or not (a bilinear lookup stays between
+    /// its texels).
+    pub fn floor(&self) -> Rgb {
+        self.texels
+            .iter()
+            .fold(Rgb::splat(f32::INFINITY), |low, t| {
+                Rgb::new(low.r.min(t.r), low.g.min(t.g), low.b.min(t.b))
+            })
+    }
+
+    /// The brightest texel's luminance over the map's average luminance: a
+    /// sun in the map makes it hundreds or more, a smooth sky a few.
+    pub fn peak_over_average(&self) -> f32 {
+        let peak = self
+            .texels
+            .iter()
+            .map(|t| t.luminance())
+            .fold(0.0, f32::max);
+        peak / self.average().luminance()
+    }
+
     /// Radiance averaged over the sphere (each texel weighted by its solid
     /// angle, ∝ sin θ; the texel values, also for a bilinear map).
     pub fn average(&self) -> Rgb {

@@ -42,7 +42,37 @@ pub enum Environment {
     Map(Arc<EnvMap>),
 }
 
+/// A map whose brightest texel is at most this many times its average
+/// luminance is smooth enough to take as a control variate with no light
+/// samples ([`Light::smooth_environment`]): `scenes/sky.exr`, a gradient
+/// with a bright aureole, is 10.3; a map with the sun's disc in it is far above.
+pub const SMOOTH_MAP_PEAK: f32 = 16.0;
+
+/// An environment whose floor (least radiance) has less luminance than this
+/// share of its average's is not taken as a control variate: the control
+/// would book too little of it to pay for its lost light samples (a black
+/// ground under a dark sky books nothing at all).
+pub const MIN_FLOOR_SHARE: f32 = 0.2;
+
 impl Environment {
+    /// The least radiance from any direction, per channel.
+    pub fn floor(&self) -> Rgb {
+        match self {
+            Environment::Constant { radiance } => *radiance,
+            Environment::Map(map) => map.floor(),
+            Environment::Sky {
+                zenith,
+                horizon,
+                ground,
+                ..
+            } => Rgb::new(
+                zenith.r.min(horizon.r).min(ground.r),
+                zenith.g.min(horizon.g).min(ground.g),
+                zenith.b.min(horizon.b).min(ground.b),
+            ),
+        }
+    }
+
     /// Radiance averaged over all directions of the sphere.
     pub fn average(&self) -> Rgb {
         match self {
@@ -260,6 +290,37 @@ impl Light {
             Light::Environment(Environment::Constant { radiance }) => Some(*radiance),
             _ => None,
         }
+    }
+
+    /// The floor and the average of an environment smooth enough to leave to
+    /// the sky control variate (`integrator::sky_control`) with no light
+    /// samples, or why it is not: a map's peak more than [`SMOOTH_MAP_PEAK`]
+    /// times its average, a floor below [`MIN_FLOOR_SHARE`] of it. `None` for other lights.
+    pub fn smooth_environment(&self) -> Option<Result<(Rgb, Rgb), String>> {
+        let Light::Environment(env) = self else {
+            return None;
+        };
+        let (floor, average) = (env.floor(), env.average());
+        if let Environment::Map(map) = env {
+            let peak = map.peak_over_average();
+            if peak > SMOOTH_MAP_PEAK {
+                return Some(Err(format!(
+                    "the map's brightest texel is {peak:.0} times its average (at most {SMOOTH_MAP_PEAK}: a sun in a map needs its light samples)"
+                )));
+            }
+        }
+        let share = floor.luminance() / average.luminance();
+        if share.is_nan() || share < MIN_FLOOR_SHARE {
+            return Some(Err(format!(
+                "the environment's least radiance is {share:.2} of its average (at least {MIN_FLOOR_SHARE}: too little to book)"
+            )));
+        }
+        Some(Ok((floor, average)))
+    }
+
+    /// True for environment lights (constant, gradient sky or map).
+    pub fn is_environment(&self) -> bool {
+        matches!(self, Light::Environment(_))
     }
 
     /// True for lights at infinity that a ray escaping the scene can see.

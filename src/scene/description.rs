@@ -378,8 +378,8 @@ pub struct IntegratorDesc {
     /// environment beside other lights (default: from the lights' powers).
     #[serde(default)]
     pub environment_share: Option<f32>,
-    /// The constant environment as a control variate of the path tracer
-    /// (default: on with a constant environment and a medium; module `sky_control`).
+    /// The environment as a control variate of the path tracer (default: on
+    /// with a smooth environment and a medium; module `sky_control`).
     #[serde(default)]
     pub sky_control: Option<bool>,
     /// Random numbers of pixel samples: sobol (scrambled Sobol' points) or independent.

@@ -205,17 +205,22 @@ fn build_sun(
 }
 
 /// `integrator.sky_control`: the constant U′ the path tracer books where it
-/// takes the constant environment (radiance U) as a control variate
-/// (`integrator::sky_control`; the path tracer then never light-samples
-/// that light, and an escape meets U − U′). Automatic: on for the path
-/// tracer with a constant environment and a medium (where roulette's
+/// takes the environment as a control variate (`integrator::sky_control`;
+/// the path tracer then never light-samples that light, and an escape along
+/// ω meets L(ω) − U′). The environment must be smooth
+/// ([`Light::smooth_environment`]: a constant, a gradient sky, or a map
+/// without a sun in it) and the scene's only one. Automatic: on for the
+/// path tracer with such an environment and a medium (where roulette's
 /// variance in the sky light it carries is the control variate's gain),
-/// with U′ = U when the light samples leave the sky out anyway (a sun
-/// brighter than it: [`environment_share`] of the powers `power` is 0), and
-/// U′ = U·R(a) where they would ask it (a sky alone or brighter), R(a) the
-/// light a deep medium of the media's least albedo a returns under a
-/// uniform sky ([`sky_share_returned`]): the light a walk meets there. Off
-/// without a medium, for albedo grids or media that scatter nothing under a
+/// with U′ its floor (the least radiance of any direction, per channel: U
+/// for a constant sky) when the light samples leave the sky out anyway (a
+/// sun brighter than it: [`environment_share`] of the powers `power` is 0),
+/// and U′ the least of the floor and R(a)·(its average) where they would
+/// ask it (a sky alone or brighter), R(a) the light a deep medium of the
+/// media's least albedo a returns under a uniform sky
+/// ([`sky_share_returned`]): the light a walk meets there. Booking at most
+/// the floor keeps every escape's L(ω) − U′ at or above 0. Off without a
+/// medium, for albedo grids or media that scatter nothing under a
 /// light-sampled sky, where a key asks for the environment's own sampling
 /// (guiding, `environment_share`) or where a light slab has baked the sky
 /// into its light.
@@ -228,39 +233,58 @@ pub(super) fn sky_control(
 ) -> Result<Option<Rgb>> {
     const KEY: &str = "integrator.sky_control";
     let integrator = &desc.integrator;
-    let constant = lights.iter().find_map(Light::constant_environment);
-    let refusal = if integrator.kind != "path" {
+    let environment = lights.iter().find_map(Light::smooth_environment);
+    let smooth = environment.clone().and_then(|e| e.ok());
+    let refusal = sky_control_refusal(desc, lights, environment, has_slabs);
+    let booked = smooth.and_then(|(floor, average)| match sky_light_sampled(lights, power) {
+        false => Some(floor),
+        true => sky_share_returned(media).map(|share| channel_min(floor, average * share)),
+    });
+    Ok(match integrator.sky_control {
+        Some(true) => match refusal {
+            Some(message) => return Err(check.error(KEY, message)),
+            None => booked.or(smooth.map(|(floor, _)| floor)),
+        },
+        Some(false) => None,
+        None if refusal.is_some() || media.is_empty() => None,
+        None if integrator.environment_share.is_some() => None,
+        None => booked,
+    })
+}
+
+/// Why the sky control variate cannot be used in this scene, if it cannot
+/// (`environment`: what [`Light::smooth_environment`] says of its environment).
+fn sky_control_refusal(
+    desc: &SceneDesc,
+    lights: &[Light],
+    environment: Option<std::result::Result<(Rgb, Rgb), String>>,
+    has_slabs: bool,
+) -> Option<String> {
+    let integrator = &desc.integrator;
+    let environments = lights.iter().filter(|l| l.is_environment()).count();
+    if integrator.kind != "path" {
         Some(format!(
             "needs type = \"path\": type = \"{}\" samples the environment in its own strategies",
             integrator.kind
         ))
     } else if integrator.guiding {
         Some("cannot be used with integrator.guiding: the guide learns the sky light the control variate takes out".into())
-    } else if constant.is_none() {
-        Some(
-            "needs a constant environment ([[light]] type = \"environment\" with a radiance)"
-                .into(),
-        )
+    } else if environments > 1 {
+        Some("needs a single environment light, not several".into())
     } else if has_slabs {
         Some("cannot be used with a light slab or a [slab] bake: a slab's light holds the environment's".into())
     } else {
-        None
-    };
-    let share = match sky_light_sampled(lights, power) {
-        false => Some(Rgb::WHITE),
-        true => sky_share_returned(media),
-    };
-    let share = match integrator.sky_control {
-        Some(true) => match refusal {
-            Some(message) => return Err(check.error(KEY, message)),
-            None => Some(share.unwrap_or(Rgb::WHITE)),
-        },
-        Some(false) => None,
-        None if refusal.is_some() || media.is_empty() => None,
-        None if integrator.environment_share.is_some() => None,
-        None => share,
-    };
-    Ok(constant.zip(share).map(|(sky, share)| sky * share))
+        match environment {
+            None => Some("needs an environment light ([[light]] type = \"environment\", \"sky\" or \"environment_map\")".into()),
+            Some(Err(why)) => Some(format!("needs a smooth environment: {why}")),
+            Some(Ok(_)) => None,
+        }
+    }
+}
+
+/// The least of `a` and `b` in each channel.
+fn channel_min(a: Rgb, b: Rgb) -> Rgb {
+    Rgb::new(a.r.min(b.r), a.g.min(b.g), a.b.min(b.b))
 }
 
 /// R(a) = (1 − s) / (1 + s), s = √(1 − a), per channel, of the media's

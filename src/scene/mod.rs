@@ -591,8 +591,12 @@ fn build_nee_pick(
             "has no effect: integrator.sky_control takes the sky out of the light samples",
         );
     }
-    // Under `integrator.sky_control` the path tracer never samples the sky.
-    let share = if sky_controlled { Some(0.0) } else { share };
+    // Under `integrator.sky_control` the path tracer never samples the
+    // environment (a map too, which otherwise keeps its share by power).
+    if sky_controlled {
+        let environment = lights.iter().position(Light::is_environment);
+        return Ok(nee_pick(power, environment, Some(0.0)));
+    }
     Ok(nee_pick(power, sky, share))
 }
 
