@@ -124,6 +124,11 @@ CYCLES_EXTRA["CLOUD_MAP"] = dict(
     CYCLES_EXTRA["CLOUD"], file="cycles_cloud_map",
     title="the dense cloud under the HDR sky map alone (albedo 0.99, HG 0.8)",
     lights=[{"type": "environment_map", "file": "scenes/sky.exr"}])
+# The bench smoke over its ground under the same map alone.
+CYCLES_EXTRA["SMOKE_MAP"] = dict(
+    bench.SCENES["B3"], file="cycles_smoke_map",
+    title="the bench smoke under the HDR sky map alone",
+    lights=[{"type": "environment_map", "file": "scenes/sky.exr"}])
 # The same ground under scenes/sky.exr (a procedural HDR sky with a bright aureole).
 CYCLES_EXTRA["GROUND_MAP"] = dict(CYCLES_EXTRA["GROUND"], file="cycles_ground_map",
                                   title="the ground and boxes under an HDR sky map",
@@ -142,6 +147,7 @@ HARNESS = {
     "smoke_sky": ("SMOKE_SKY", [160, 160]),
     "cloud_sky": ("CLOUD_SKY", [160, 120]),
     "cloud_map": ("CLOUD_MAP", [160, 120]),
+    "smoke_map": ("SMOKE_MAP", [160, 160]),
 }
 bench.SCENES.update(CYCLES_EXTRA)
 
