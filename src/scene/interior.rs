@@ -201,10 +201,10 @@ fn build_mask(
             let half = Vec3::new(size[0], size[1], size[2]) * 0.5;
             let to_world = build_transform(shape.transform.as_ref(), field, check)?
                 * Affine3A::from_translation(center);
-            Ok(ShapeMask::Region(Region::Box {
-                world_to_local: to_world.inverse(),
-                local: Bounds3::new(-half, half),
-            }))
+            Ok(ShapeMask::Region(Region::boxed(
+                to_world.inverse(),
+                Bounds3::new(-half, half),
+            )))
         }
         ShapeType::Mesh => {
             let file = shape.file.as_deref().unwrap_or(Path::new(""));

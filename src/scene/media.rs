@@ -45,10 +45,7 @@ fn build_region(
                             "min must be below max on every axis",
                         ));
                     }
-                    Region::Box {
-                        world_to_local,
-                        local: Bounds3 { min, max },
-                    }
+                    Region::boxed(world_to_local, Bounds3 { min, max })
                 }
                 BoundsDesc::Sphere { center, radius } => Region::Sphere {
                     world_to_local,
