@@ -387,9 +387,9 @@ fn the_control_keeps_the_expectation_under_a_gradient_sky_and_a_map() {
 /// least radiance of any direction) under a brighter sun, the least of the
 /// floor and R(a)·average under the environment alone; the environment's
 /// light samples go (a map's too, which otherwise keeps its share by
-/// power); a floor below a fifth of the average (a black ground) and a map
-/// with a sun in it keep their light samples, and `true` is refused there
-/// saying why.
+/// power); a floor below a fifth of the average (a black ground), a map
+/// with a sun in it (its peak over its average, whatever its scale) keep
+/// their light samples, and `true` is refused there saying why.
 #[test]
 fn the_rule_books_the_floor_of_a_gradient_sky_or_a_smooth_map() {
     let fog = "type = \"homogeneous\"\nsigma_t = 0.1\nalbedo = 0.9\n\
@@ -434,6 +434,14 @@ fn the_rule_books_the_floor_of_a_gradient_sky_or_a_smooth_map() {
         .expect("the map");
     assert!(map.sky_control.is_some(), "a smooth map");
     assert_eq!(map.nee_pick.pmf(index), 0.0, "the map's light samples");
+    // Smoothness is the peak over the average: a bright smooth map is as smooth.
+    let bright = format!("{}\nscale = 100.0", smooth_map());
+    assert!(
+        scene_from_str(&scene("", &bright, false))
+            .sky_control
+            .is_some(),
+        "a bright smooth map"
+    );
     let dir = tempfile::tempdir().expect("temporary folder");
     let black_ground = GRADIENT.replace("ground = [0.1, 0.1, 0.15]", "ground = 0.0");
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("test.toml");

@@ -209,7 +209,7 @@ fn build_sun(
 /// the path tracer then never light-samples that light, and an escape along
 /// ω meets L(ω) − U′). The environment must be smooth
 /// ([`Light::smooth_environment`]: a constant, a gradient sky, or a map
-/// without a sun in it) and the scene's only one. Automatic: on for the
+/// without a sun in it; a scene has one at most). Automatic: on for the
 /// path tracer with such an environment and a medium (where roulette's
 /// variance in the sky light it carries is the control variate's gain),
 /// with U′ its floor (the least radiance of any direction, per channel: U
@@ -235,7 +235,7 @@ pub(super) fn sky_control(
     let integrator = &desc.integrator;
     let environment = lights.iter().find_map(Light::smooth_environment);
     let smooth = environment.clone().and_then(|e| e.ok());
-    let refusal = sky_control_refusal(desc, lights, environment, has_slabs);
+    let refusal = sky_control_refusal(desc, environment, has_slabs);
     let booked = smooth.and_then(|(floor, average)| match sky_light_sampled(lights, power) {
         false => Some(floor),
         true => sky_share_returned(media).map(|share| channel_min(floor, average * share)),
@@ -256,12 +256,10 @@ pub(super) fn sky_control(
 /// (`environment`: what [`Light::smooth_environment`] says of its environment).
 fn sky_control_refusal(
     desc: &SceneDesc,
-    lights: &[Light],
     environment: Option<std::result::Result<(Rgb, Rgb), String>>,
     has_slabs: bool,
 ) -> Option<String> {
     let integrator = &desc.integrator;
-    let environments = lights.iter().filter(|l| l.is_environment()).count();
     if integrator.kind != "path" {
         Some(format!(
             "needs type = \"path\": type = \"{}\" samples the environment in its own strategies",
@@ -269,8 +267,6 @@ fn sky_control_refusal(
         ))
     } else if integrator.guiding {
         Some("cannot be used with integrator.guiding: the guide learns the sky light the control variate takes out".into())
-    } else if environments > 1 {
-        Some("needs a single environment light, not several".into())
     } else if has_slabs {
         Some("cannot be used with a light slab or a [slab] bake: a slab's light holds the environment's".into())
     } else {
