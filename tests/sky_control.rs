@@ -280,7 +280,6 @@ fn the_key_defaults_and_refusals() {
     ] {
         assert!(scene_from_str(&text).sky_control.is_none(), "{what}");
     }
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("test.toml");
     for (what, text) in [
         (
             "bdpt",
@@ -299,11 +298,7 @@ fn the_key_defaults_and_refusals() {
             base("guiding = true\nsky_control = true", constant, true),
         ),
     ] {
-        let desc = brume::scene::parse(&text, &file).expect("parse");
-        let err = brume::scene::build(&desc, &file, Path::new(env!("CARGO_MANIFEST_DIR")))
-            .err()
-            .unwrap_or_else(|| panic!("{what}: accepted"))
-            .to_string();
+        let err = build_error_from_str(&text, what);
         assert!(err.contains("integrator.sky_control"), "{what}: {err}");
     }
 }
@@ -444,7 +439,6 @@ fn the_rule_books_the_floor_of_a_gradient_sky_or_a_smooth_map() {
     );
     let dir = tempfile::tempdir().expect("temporary folder");
     let black_ground = GRADIENT.replace("ground = [0.1, 0.1, 0.15]", "ground = 0.0");
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("test.toml");
     for (what, environment, why) in [
         ("a black ground", black_ground, "least radiance"),
         (
@@ -459,12 +453,7 @@ fn the_rule_books_the_floor_of_a_gradient_sky_or_a_smooth_map() {
                 .is_none(),
             "{what}"
         );
-        let desc = brume::scene::parse(&scene("sky_control = true", &environment, false), &file)
-            .expect("parse");
-        let err = brume::scene::build(&desc, &file, Path::new(env!("CARGO_MANIFEST_DIR")))
-            .err()
-            .unwrap_or_else(|| panic!("{what}: accepted"))
-            .to_string();
+        let err = build_error_from_str(&scene("sky_control = true", &environment, false), what);
         assert!(
             err.contains("integrator.sky_control") && err.contains(why),
             "{what}: {err}"

@@ -103,25 +103,29 @@ impl RunBatch {
     }
 }
 
-/// Runs of the primitives with `bounds` and shape indices `shapes` (in
-/// traversal order), each of consecutive primitives of one shape, at most
-/// [`MAX_RUN_LENGTH`] long, with their boxes grown by `pad`; `None` where
-/// there would be more than [`MAX_FLAT_RUNS`].
-pub(super) fn flat_runs(bounds: &[Bounds3], shapes: &[u32], pad: f32) -> Option<FlatRuns> {
+/// Runs of the primitives given as (bounds, shape index) in traversal
+/// order, each of consecutive primitives of one shape, at most
+/// [`MAX_RUN_LENGTH`] long, with their boxes grown by `pad`; `None` as soon
+/// as there would be more than [`MAX_FLAT_RUNS`] (a large mesh is not read
+/// past its 73rd primitive).
+pub(super) fn flat_runs(
+    primitives: impl IntoIterator<Item = (Bounds3, u32)>,
+    pad: f32,
+) -> Option<FlatRuns> {
     let mut runs: Vec<(Range<u32>, Bounds3)> = Vec::new();
     let mut run_shape = u32::MAX;
-    for (i, (b, &shape)) in bounds.iter().zip(shapes).enumerate() {
+    for (i, (b, shape)) in primitives.into_iter().enumerate() {
         let i = i as u32;
         match runs.last_mut() {
             Some((run, boxed)) if shape == run_shape && run.len() < MAX_RUN_LENGTH => {
-                *boxed = boxed.union(b);
+                *boxed = boxed.union(&b);
                 run.end = i + 1;
             }
             _ => {
                 if runs.len() == MAX_FLAT_RUNS {
                     return None;
                 }
-                runs.push((i..i + 1, *b));
+                runs.push((i..i + 1, b));
                 run_shape = shape;
             }
         }
@@ -174,15 +178,19 @@ mod tests {
     fn runs_group_a_shapes_consecutive_primitives() {
         let bounds: Vec<Bounds3> = (0..9).map(|i| unit_box(i as f32)).collect();
         let shapes = [0, 0, 0, 0, 0, 0, 0, 1, 0];
-        let runs = flat_runs(&bounds, &shapes, 0.0).unwrap();
+        let runs = flat_runs(bounds.iter().copied().zip(shapes), 0.0).unwrap();
         assert_eq!(runs.runs, vec![0..6, 6..7, 7..8, 8..9]);
         assert_eq!(runs.batches.len(), 1);
         assert_eq!(runs.batches[0].lanes, 0b1111);
         assert_eq!(runs.batches[0].max[1][0], 6.0);
         let many: Vec<u32> = (0..MAX_FLAT_RUNS as u32 + 1).collect();
         let boxes = vec![unit_box(0.0); many.len()];
-        assert!(flat_runs(&boxes, &many, 0.0).is_none());
-        let most = flat_runs(&boxes[1..], &many[1..], 0.0).unwrap();
+        assert!(flat_runs(boxes.iter().copied().zip(many.iter().copied()), 0.0).is_none());
+        let most = flat_runs(
+            boxes[1..].iter().copied().zip(many[1..].iter().copied()),
+            0.0,
+        )
+        .unwrap();
         assert_eq!(most.batches.len(), MAX_FLAT_RUNS.div_ceil(4));
     }
 
@@ -192,7 +200,7 @@ mod tests {
     #[test]
     fn the_box_test_keeps_the_rays_that_meet_the_box() {
         let bounds: Vec<Bounds3> = (0..5).map(|i| unit_box(2.0 + 3.0 * i as f32)).collect();
-        let runs = flat_runs(&bounds, &[0, 1, 2, 3, 4], 0.0).unwrap();
+        let runs = flat_runs(bounds.iter().copied().zip(0..), 0.0).unwrap();
         let seen =
             |o: Vec3, d: Vec3, t_max: f32| visited(&runs, &Ray::new(o, d.normalize()), t_max);
         let toward = Vec3::new(1.0, 1.0, 1.0);

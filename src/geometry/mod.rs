@@ -488,9 +488,7 @@ fn flat_runs_of(items: &[(Primitive, u32)], tree: &[usize], pad: f32) -> Option<
     if tree.is_empty() {
         return None;
     }
-    let bounds: Vec<Bounds3> = tree.iter().map(|&i| items[i].0.bounds()).collect();
-    let shapes: Vec<u32> = tree.iter().map(|&i| items[i].1).collect();
-    flat::flat_runs(&bounds, &shapes, pad)
+    flat::flat_runs(tree.iter().map(|&i| (items[i].0.bounds(), items[i].1)), pad)
 }
 
 /// Number of node levels of `bvh` (a lone leaf root is 1): a traversal holds
@@ -571,16 +569,21 @@ mod tests {
         assert!(hits > 8_000, "{hits} hits");
     }
 
+    /// A 100 × 100 ground quad at y = 0, about the origin.
+    fn ground_quad() -> Primitive {
+        Primitive::Parallelogram {
+            corner: Vec3::new(-50.0, 0.0, -50.0),
+            edge_u: Vec3::new(100.0, 0.0, 0.0),
+            edge_v: Vec3::new(0.0, 0.0, 100.0),
+        }
+    }
+
     /// Loose primitives (a ground plane), the BVH and the no-BVH path for a
     /// few primitives all find what testing every primitive finds: the same
     /// closest hit (primitive, t) and the same occlusion, for random rays.
     #[test]
     fn loose_and_few_primitives_find_the_closest_hit() {
-        let ground = Primitive::Parallelogram {
-            corner: Vec3::new(-50.0, 0.0, -50.0),
-            edge_u: Vec3::new(100.0, 0.0, 0.0),
-            edge_v: Vec3::new(0.0, 0.0, 100.0),
-        };
+        let ground = ground_quad();
         // No BVH (3), flat runs (8), a BVH (40).
         for count in [0usize, 3, 8, 40] {
             let mut items = vec![(ground, 0)];
@@ -642,11 +645,7 @@ mod tests {
     /// tie, for rays aimed anywhere and at the boxes' edges and corners.
     #[test]
     fn flat_runs_of_boxes_find_what_every_face_finds() {
-        let ground = Primitive::Parallelogram {
-            corner: Vec3::new(-50.0, 0.0, -50.0),
-            edge_u: Vec3::new(100.0, 0.0, 0.0),
-            edge_v: Vec3::new(0.0, 0.0, 100.0),
-        };
+        let ground = ground_quad();
         let mut items = vec![(ground, 0)];
         let mut corners = Vec::new();
         for i in 0..6 {

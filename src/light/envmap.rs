@@ -163,20 +163,16 @@ impl EnvMap {
     pub fn floor(&self) -> Rgb {
         self.texels
             .iter()
-            .fold(Rgb::splat(f32::INFINITY), |low, t| {
-                Rgb::new(low.r.min(t.r), low.g.min(t.g), low.b.min(t.b))
-            })
+            .fold(Rgb::splat(f32::INFINITY), |low, &t| low.min_per_channel(t))
     }
 
-    /// The brightest texel's luminance over the map's average luminance: a
-    /// sun in the map makes it hundreds or more, a smooth sky a few.
-    pub fn peak_over_average(&self) -> f32 {
-        let peak = self
-            .texels
+    /// The brightest texel's luminance (over the average's: a sun in the map
+    /// makes it hundreds or more, a smooth sky a few).
+    pub fn peak_luminance(&self) -> f32 {
+        self.texels
             .iter()
             .map(|t| t.luminance())
-            .fold(0.0, f32::max);
-        peak / self.average().luminance()
+            .fold(0.0, f32::max)
     }
 
     /// Radiance averaged over the sphere (each texel weighted by its solid

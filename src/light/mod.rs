@@ -65,11 +65,7 @@ impl Environment {
                 horizon,
                 ground,
                 ..
-            } => Rgb::new(
-                zenith.r.min(horizon.r).min(ground.r),
-                zenith.g.min(horizon.g).min(ground.g),
-                zenith.b.min(horizon.b).min(ground.b),
-            ),
+            } => zenith.min_per_channel(*horizon).min_per_channel(*ground),
         }
     }
 
@@ -283,15 +279,6 @@ impl Light {
         }
     }
 
-    /// The radiance of a constant environment (`None` for every other light).
-    #[inline]
-    pub fn constant_environment(&self) -> Option<Rgb> {
-        match self {
-            Light::Environment(Environment::Constant { radiance }) => Some(*radiance),
-            _ => None,
-        }
-    }
-
     /// The floor and the average of an environment smooth enough to leave to
     /// the sky control variate (`integrator::sky_control`) with no light
     /// samples, or why it is not: a map's peak more than [`SMOOTH_MAP_PEAK`]
@@ -302,7 +289,7 @@ impl Light {
         };
         let (floor, average) = (env.floor(), env.average());
         if let Environment::Map(map) = env {
-            let peak = map.peak_over_average();
+            let peak = map.peak_luminance() / average.luminance();
             if peak > SMOOTH_MAP_PEAK {
                 return Some(Err(format!(
                     "the map's brightest texel is {peak:.0} times its average (at most {SMOOTH_MAP_PEAK}: a sun in a map needs its light samples)"

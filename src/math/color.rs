@@ -49,6 +49,15 @@ impl Rgb {
         self.r.max(self.g).max(self.b)
     }
 
+    /// The lesser of `self` and `other` in each channel.
+    pub fn min_per_channel(self, other: Rgb) -> Rgb {
+        Rgb::new(
+            self.r.min(other.r),
+            self.g.min(other.g),
+            self.b.min(other.b),
+        )
+    }
+
     /// Smallest channel.
     pub fn min_channel(self) -> f32 {
         self.r.min(self.g).min(self.b)

@@ -234,11 +234,11 @@ pub(super) fn sky_control(
     const KEY: &str = "integrator.sky_control";
     let integrator = &desc.integrator;
     let environment = lights.iter().find_map(Light::smooth_environment);
-    let smooth = environment.clone().and_then(|e| e.ok());
+    let smooth = environment.as_ref().and_then(|e| e.as_ref().ok().copied());
     let refusal = sky_control_refusal(desc, environment, has_slabs);
     let booked = smooth.and_then(|(floor, average)| match sky_light_sampled(lights, power) {
         false => Some(floor),
-        true => sky_share_returned(media).map(|share| channel_min(floor, average * share)),
+        true => sky_share_returned(media).map(|share| floor.min_per_channel(average * share)),
     });
     Ok(match integrator.sky_control {
         Some(true) => match refusal {
@@ -278,11 +278,6 @@ fn sky_control_refusal(
     }
 }
 
-/// The least of `a` and `b` in each channel.
-fn channel_min(a: Rgb, b: Rgb) -> Rgb {
-    Rgb::new(a.r.min(b.r), a.g.min(b.g), a.b.min(b.b))
-}
-
 /// R(a) = (1 − s) / (1 + s), s = √(1 − a), per channel, of the media's
 /// least albedo a: the share of a uniform sky's light a deep medium of
 /// albedo a returns (the two-stream similarity solution of a semi-infinite
@@ -297,7 +292,7 @@ fn sky_share_returned(media: &[Medium]) -> Option<Rgb> {
     let mut least = Rgb::WHITE;
     for medium in media {
         let a = medium.constant_albedo()?;
-        least = Rgb::new(least.r.min(a.r), least.g.min(a.g), least.b.min(a.b));
+        least = least.min_per_channel(a);
     }
     let returned = |a: f32| {
         let s = (1.0 - a.clamp(0.0, 1.0)).sqrt();

@@ -34,6 +34,18 @@ pub fn scene_from_str(text: &str) -> Scene {
     brume::scene::build(&desc, &file, Path::new(env!("CARGO_MANIFEST_DIR"))).expect("build")
 }
 
+/// The error building a scene from TOML text gives (as [`scene_from_str`]
+/// reads it); `what` names the case where the scene is accepted instead.
+#[allow(dead_code)]
+pub fn build_error_from_str(text: &str, what: &str) -> String {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("test.toml");
+    let desc = brume::scene::parse(text, &file).expect("parse");
+    brume::scene::build(&desc, &file, Path::new(env!("CARGO_MANIFEST_DIR")))
+        .err()
+        .unwrap_or_else(|| panic!("{what}: accepted"))
+        .to_string()
+}
+
 /// A furnace: a camera looking at `medium` (TOML) inside a uniform environment of radiance `env`.
 ///
 /// Paths are never cut short (no depth limit or roulette in practice), so
