@@ -334,6 +334,41 @@ mod tests {
         }
     }
 
+    /// 1 − e^(−x) and −ln(1 − x) keep their relative precision on both
+    /// sides of the switch to `exp_m1` / `ln_1p` near 0.
+    #[test]
+    fn the_exponential_helpers_are_precise_near_zero_and_beyond() {
+        for x in [1e-7f64, 1e-5, 1e-3, 0.029, 0.031, 0.3, 3.0, 30.0] {
+            let exact = -(-x).exp_m1();
+            let got = one_minus_exp_neg(x as f32) as f64;
+            assert!(
+                (got - exact).abs() <= 1e-6 * exact,
+                "1 − e^−{x}: {got} against {exact}"
+            );
+            if x < 1.0 {
+                let exact = -(-x).ln_1p();
+                let got = neg_ln_one_minus(x as f32) as f64;
+                assert!(
+                    (got - exact).abs() <= 1e-6 * exact,
+                    "−ln(1 − {x}): {got} against {exact}"
+                );
+            }
+        }
+    }
+
+    /// A medium that scatters nothing has no forced point.
+    #[test]
+    fn an_absorber_draws_no_forced_point() {
+        let mut medium = slab_medium(0.7);
+        let Medium::Homogeneous(m) = &mut medium else {
+            unreachable!()
+        };
+        m.sigma_a = m.sigma_a + m.sigma_s;
+        m.sigma_s = Rgb::BLACK;
+        let ray = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(homogeneous_point(m, &ray, 10.0, 0.4), None);
+    }
+
     #[test]
     fn a_segment_before_the_medium_draws_nothing() {
         let medium = slab_medium(0.7);

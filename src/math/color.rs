@@ -187,6 +187,24 @@ pub fn srgb_to_linear(v: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+
+    /// The grey shortcut of `exp_neg` takes only equal channels: each
+    /// channel is its own exponential, grey or not (two equal, one apart too).
+    #[test]
+    fn exp_neg_is_per_channel_grey_or_not() {
+        for depth in [
+            Rgb::splat(0.7),
+            Rgb::new(0.5, 0.5, 2.0),
+            Rgb::new(2.0, 0.5, 0.5),
+            Rgb::new(0.1, 0.2, 0.3),
+        ] {
+            let t = depth.exp_neg();
+            for (got, d) in [(t.r, depth.r), (t.g, depth.g), (t.b, depth.b)] {
+                assert_eq!(got, (-d).exp(), "{depth:?}");
+            }
+        }
+    }
+
     use super::*;
 
     #[test]
