@@ -363,7 +363,7 @@ mod tests {
         let Medium::Homogeneous(m) = &mut medium else {
             unreachable!()
         };
-        m.sigma_a = m.sigma_a + m.sigma_s;
+        m.sigma_a += m.sigma_s;
         m.sigma_s = Rgb::BLACK;
         let ray = Ray::new(Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.0, 0.0, 1.0));
         assert_eq!(homogeneous_point(m, &ray, 10.0, 0.4), None);
