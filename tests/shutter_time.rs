@@ -14,6 +14,7 @@ fn settings(shutter: Option<[f32; 2]>) -> Settings {
         transmittance: TransmittanceEstimator::Auto,
         equiangular: false,
         forced_scattering: true,
+        sky_ahead: true,
         sun_lobe: None,
         shutter,
         sampler: brume::sampling::SamplerKind::Independent,

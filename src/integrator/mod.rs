@@ -72,6 +72,10 @@ pub struct Settings {
     /// Sample lights from a point drawn over each medium segment (module `forced`),
     /// not from the free flight's collision.
     pub forced_scattering: bool,
+    /// Where the sky is a control variate, book its change at a diffuse
+    /// surface a segment aims at ahead, by its expectation (module
+    /// [`sky_control`]); on by default, off only to compare.
+    pub sky_ahead: bool,
     /// Sun-lobe sampling of the first medium scatterings (module [`sun_lobe`]);
     /// `None` without a sun or with `integrator.sun_lobe = 0`.
     pub sun_lobe: Option<sun_lobe::SunLobe>,
@@ -425,6 +429,9 @@ fn trace_segment<G: Gather>(
     }
     let media = scene.media_along(path.medium);
     if !media.is_empty() {
+        if let Some(hit) = &hit {
+            book_surface_ahead(scene, media, path, hit);
+        }
         if G::ACTIVE && !path.emission_only {
             gather.segment(
                 scene,
@@ -454,6 +461,9 @@ fn trace_segment<G: Gather>(
         path.book_sky();
         return Step::Stop;
     };
+    if let Some(book) = &mut path.sky {
+        path.radiance += book.arrived(path.throughput);
+    }
     add_surface_emission(scene, path, &hit);
     if let Some(interfaces) = scene.interfaces.as_ref().filter(|i| i.is_null(hit.shape)) {
         return pass_through(interfaces, path, &hit);
@@ -465,6 +475,37 @@ fn trace_segment<G: Gather>(
         return path.end_at_vertex();
     }
     surface_vertex(scene, path, &hit, sampler, gather)
+}
+
+/// Books ahead, by its expectation, the sky light's change at the diffuse
+/// surface `hit` the path's segment aims at through media of closed-form
+/// transmittance T (module [`sky_control`]). A path gets there with
+/// throughput β_arrive, E[β_arrive·1(reached)] = β·T for any unbiased
+/// tracking, and the surface then scales it by ρ on average (any unbiased
+/// sampling of a Lambertian BSDF); so its booking there, β_arrive·(ρ − 1)·U′
+/// if reached, is replaced by T·β·(ρ − 1)·U′ made whether or not the flight
+/// gets there. The coin of reaching the ground no longer carries the sky's
+/// deficit (the airlight fog: variance 0.73×). Grid media would need a
+/// tracked estimate of T per segment: it costs more than it saves there.
+#[inline]
+fn book_surface_ahead(scene: &Scene, media: &[Medium], path: &mut PathState, hit: &SurfaceHit) {
+    let Some(book) = &mut path.sky else {
+        return;
+    };
+    if path.emission_only || scene.interfaces.is_some() || !scene.settings.sky_ahead {
+        return;
+    }
+    let mut depth = Rgb::BLACK;
+    for medium in media {
+        let Some(tau) = medium.optical_depth(&path.ray, 0.0, hit.t) else {
+            return;
+        };
+        depth += tau;
+    }
+    let Material::Diffuse { albedo } = scene.material_at(hit) else {
+        return;
+    };
+    path.radiance += book.ahead(path.throughput, depth.exp_neg(), albedo);
 }
 
 /// A thin dielectric sheet: reflection (probability R) is a scattering
@@ -584,6 +625,11 @@ fn medium_segment(
         &mut path.radiance,
         sampler,
     );
+    if !matches!(event, FreeFlight::Passed) {
+        if let Some(book) = &mut path.sky {
+            book.missed();
+        }
+    }
     match event {
         FreeFlight::Absorbed => Some(path.end_at_vertex()),
         FreeFlight::Passed => None,

@@ -686,6 +686,7 @@ fn build_settings(desc: &SceneDesc, check: &Check, shutter: Option<[f32; 2]>) ->
         seed: integ.seed,
         equiangular: integ.equiangular,
         forced_scattering: integ.forced_scattering.unwrap_or(true),
+        sky_ahead: true,
         sun_lobe: None,
         shutter,
         transmittance: match integ.transmittance.as_str() {
