@@ -435,7 +435,8 @@ mod tests {
     /// cells: its extent is whole cells from the box's corner, its global bound
     /// the largest cell bound, and walks that start anywhere in it (on its far
     /// faces too, as a ray entering from above does) start in the cell of their
-    /// first point and end where they leave the grid.
+    /// first point and end where they leave the grid, from t = 0 or from a
+    /// later start of a ray that begins outside.
     #[test]
     fn walks_start_in_the_cell_of_their_first_point() {
         let (lo, hi) = (Vec3::new(1.0, 2.0, 3.0), Vec3::new(20.0, 10.0, 30.0));
@@ -460,6 +461,10 @@ mod tests {
             let t1 = exit.min_element();
             let (_, end) = walk_and_check(&m, o, d, 0.0, t1);
             assert!((end - t1).abs() < 1e-3, "ends at {end}, not {t1}");
+            // The same walk from a ray starting s behind (a ray entering the grid from outside).
+            let s = 3.0 + 10.0 * hash(1_000_000 + i);
+            let (_, end) = walk_and_check(&m, o - d * s, d, s, s + t1);
+            assert!((end - s - t1).abs() < 1e-3, "ends at {end}, not {}", s + t1);
         }
         // entering through the far faces, going down each axis in turn; asked to
         // go on past the grid, a walk stops where it leaves the grid
