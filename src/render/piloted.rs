@@ -3,7 +3,8 @@
 //! fixed by the plan before the pass starts.
 
 use super::adaptive::{
-    pilot_seed, pilot_spp, AdaptiveSettings, AutoChoice, NoiseReport, Plan, AUTO_GAIN, MAX_FACTOR,
+    pilot_seed, pilot_spp, AdaptiveSettings, AutoChoice, NoiseReport, Plan, Spread, AUTO_GAIN,
+    MAX_FACTOR,
 };
 use super::group::Group;
 use super::run::{Piloted, Run};
@@ -86,7 +87,12 @@ impl<E: Estimator> Run<'_, E> {
     ) -> Option<Plan> {
         let pilot_sums = self.pilot(pilot)?;
         let w = self.job.part.crop.width() as usize;
-        let spread = settings.adaptive || settings.auto;
+        // A noise target is a relative error: its spread minimises that.
+        let spread = match (settings.noise, settings.adaptive || settings.auto) {
+            (_, false) => Spread::Uniform,
+            (Some(_), true) => Spread::Relative,
+            (None, true) => Spread::Luminance,
+        };
         Some(Plan::new(&pilot_sums, w, spread, pilot, cap))
     }
 
