@@ -316,13 +316,13 @@ fn report_auto(out: &brume::render::RenderOutput) {
     match a.spread {
         true => eprintln!(
             "adaptive (automatic): the pilot predicts {:.2}x the efficiency (1 / (error² × \
-             cost), by relative and squared error) from spreading the samples (at least \
+             cost), each pixel's squared error over its luminance) from spreading the samples (at least \
              {gain}x spreads them; --adaptive off keeps them even)",
             a.gain
         ),
         false => eprintln!(
             "uniform (automatic): the pilot of {} spp (not in the image) predicts {:.2}x the \
-             efficiency (1 / (error² × cost), by relative and squared error) from spreading \
+             efficiency (1 / (error² × cost), each pixel's squared error over its luminance) from spreading \
              the samples, below {gain}x; --adaptive on spreads them anyway",
             a.pilot_spp, a.gain
         ),
