@@ -86,6 +86,18 @@ pub enum Spread {
     Luminance,
 }
 
+impl Spread {
+    /// The spread of a piloted render with `settings`: none unless adaptive
+    /// or the automatic choice; a noise target's is the relative error's.
+    pub fn of(settings: &AdaptiveSettings) -> Spread {
+        match (settings.noise, settings.adaptive || settings.auto) {
+            (_, false) => Spread::Uniform,
+            (Some(_), true) => Spread::Relative,
+            (None, true) => Spread::Luminance,
+        }
+    }
+}
+
 /// What the pilot says about each pixel, and the counts it implies.
 pub struct Plan {
     /// Relative variance per sample of each pixel (luminance-normalised).
@@ -503,6 +515,29 @@ mod tests {
         assert!((ratio - 2.5f64.sqrt()).abs() < 1e-9, "{ratio}");
         let gain = plan.predicted_gain(w, 64);
         assert!(gain > 0.9 && gain < AUTO_GAIN, "{gain}");
+    }
+
+    /// A noise target spreads by its own measure, the relative error; an
+    /// adaptive render or the automatic choice without one by the variance
+    /// over the luminance; neither keeps the count even.
+    #[test]
+    fn a_noise_target_spreads_by_the_relative_error() {
+        let settings = |adaptive, noise, auto| AdaptiveSettings {
+            adaptive,
+            noise,
+            auto,
+        };
+        assert_eq!(
+            Spread::of(&settings(true, Some(0.02), false)),
+            Spread::Relative
+        );
+        assert_eq!(Spread::of(&settings(true, None, false)), Spread::Luminance);
+        assert_eq!(Spread::of(&settings(false, None, true)), Spread::Luminance);
+        assert_eq!(
+            Spread::of(&settings(false, Some(0.02), false)),
+            Spread::Uniform
+        );
+        assert_eq!(Spread::of(&settings(false, None, false)), Spread::Uniform);
     }
 
     /// A pixel whose samples traced more than the camera ray is never taken

@@ -87,13 +87,7 @@ impl<E: Estimator> Run<'_, E> {
     ) -> Option<Plan> {
         let pilot_sums = self.pilot(pilot)?;
         let w = self.job.part.crop.width() as usize;
-        // A noise target is a relative error: its spread minimises that.
-        let spread = match (settings.noise, settings.adaptive || settings.auto) {
-            (_, false) => Spread::Uniform,
-            (Some(_), true) => Spread::Relative,
-            (None, true) => Spread::Luminance,
-        };
-        Some(Plan::new(&pilot_sums, w, spread, pilot, cap))
+        Some(Plan::new(&pilot_sums, w, Spread::of(&settings), pilot, cap))
     }
 
     /// The automatic choice: spread the samples by `plan` when its predicted
