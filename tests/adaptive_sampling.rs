@@ -158,7 +158,8 @@ fn a_scene_without_adaptive_keys_chooses_automatically() {
 
 /// The automatic choice on the furnace that fills a sixth of the frame:
 /// the pilot predicts a gain, the samples are spread as with `adaptive =
-/// true`, and every pixel is still L within its standard error.
+/// true` but to the uniform image's work, and every pixel is still L
+/// within its standard error.
 #[test]
 fn the_automatic_choice_spreads_uneven_noise() {
     let scene = furnace(32, 60.0);
@@ -174,6 +175,20 @@ fn the_automatic_choice_spreads_uneven_noise() {
         "{noise:?}"
     );
     assert_pixels_equal(&pixel_estimates(&auto.film), [L; 3], "automatic spread");
+    // At the uniform image's work, not its samples: the sphere's samples cost
+    // more than the exact background's, so the spread the user did not ask
+    // for takes fewer samples than `adaptive = true` (the uniform image's
+    // count) and about the uniform image's time, with less squared error.
+    let explicit = run(&with_adaptive(furnace(32, 60.0), true, None), 64, 2);
+    let uniform = run(&with_adaptive(furnace(32, 60.0), false, None), 64, 2);
+    assert!(
+        auto.samples < explicit.samples,
+        "{} vs {}",
+        auto.samples,
+        explicit.samples
+    );
+    let (a, u) = (squared_error(&auto.film), squared_error(&uniform.film));
+    assert!(a < u, "squared error automatic {a} vs uniform {u}");
 }
 
 /// Where the medium fills the frame the noise is even: the pilot predicts

@@ -230,6 +230,22 @@ impl Plan {
         self.search(|level| self.total(level) <= budget).0
     }
 
+    /// The cost of the image at `level`: each pixel's count times its cost
+    /// per sample ([`sample_costs`]).
+    pub fn work(&self, level: f64) -> f64 {
+        (0..self.density.len())
+            .map(|i| self.count(i, level) as f64 * self.cost[i])
+            .sum()
+    }
+
+    /// The highest level whose image costs at most what `spp` samples in
+    /// every pixel would: a spread toward costly pixels then takes about
+    /// the uniform image's time, not more, for the same work.
+    pub fn level_for_uniform_work(&self, spp: u32) -> f64 {
+        let budget = spp as f64 * self.cost.iter().sum::<f64>();
+        self.search(|level| self.work(level) <= budget).0
+    }
+
     /// The highest level in [lo, hi] whose total is at most `budget` samples (lo if none).
     pub fn level_within(&self, lo: f64, hi: f64, budget: u64) -> f64 {
         if self.total(hi) <= budget {
@@ -460,6 +476,28 @@ mod tests {
         assert!(counts[12] > 4 * counts[0], "{counts:?}");
         // The corners are outside the noisy pixel's neighbourhood: the minimum.
         assert_eq!(counts[0], 4);
+    }
+
+    /// At the level of equal work a spread toward a costly pixel holds
+    /// fewer samples than the uniform image, at most its work, and takes
+    /// nearly all of it.
+    #[test]
+    fn equal_work_spends_what_the_uniform_image_would() {
+        let flat = sums(&[1.0, 1.0, 1.0, 1.0]);
+        let mut noisy = sums(&[0.0, 4.0, 0.0, 0.0]);
+        (noisy.rays, noisy.lookups) = (4, 4 * 15); // cost 16 a sample
+        let mut pilot = vec![flat; 25];
+        pilot[12] = noisy;
+        let plan = Plan::new(&pilot, 5, Spread::Luminance, 4, 1000);
+        let uniform = 64.0 * (24.0 + 16.0);
+        let level = plan.level_for_uniform_work(64);
+        let work = plan.work(level);
+        assert!(
+            work <= uniform && work > 0.95 * uniform,
+            "{work} of {uniform}"
+        );
+        assert!(plan.total(level) < 25 * 64, "{}", plan.total(level));
+        assert!(plan.counts(level)[12] > 64, "{:?}", plan.counts(level));
     }
 
     /// Uniform plans give every pixel the same count; the error falls as 1/sqrt(n).

@@ -156,8 +156,11 @@ impl<E: Estimator> Run<'_, E> {
     }
 
     /// The level the render aims at: where the noise target is met, the top
-    /// for a time budget, else where the image and pilot samples together
-    /// make `spp` per pixel on average.
+    /// for a time budget; under the automatic choice where the image costs
+    /// what `spp` − pilot uniform samples per pixel would (the pilot's count
+    /// of rays and lookups: a spread the user did not ask for takes about
+    /// the uniform render's time, not more); else where the image and pilot
+    /// samples together make `spp` per pixel on average.
     fn goal(&self, plan: &Plan, settings: AdaptiveSettings, pilot: u32) -> f64 {
         if let Some(target) = settings.noise {
             return plan.level_for_noise(target as f64);
@@ -165,9 +168,12 @@ impl<E: Estimator> Run<'_, E> {
         if self.options.time_budget.is_some() {
             return plan.top_level();
         }
+        let image_spp = self.options.spp.saturating_sub(pilot);
+        if settings.auto {
+            return plan.level_for_uniform_work(image_spp);
+        }
         let pixels = self.job.part.crop.area() as u64;
-        let budget = (self.options.spp.saturating_sub(pilot)) as u64 * pixels;
-        plan.level_for_budget(budget)
+        plan.level_for_budget(image_spp as u64 * pixels)
     }
 
     /// The pilot's sums: `spp` samples of every pixel from the pilot seed
