@@ -555,6 +555,16 @@ mod tests {
         assert!(gain > 0.9 && gain < AUTO_GAIN, "{gain}");
     }
 
+    /// A pilot that saw no variance (every camera ray escaped) predicts no
+    /// gain at all: 0, not the NaN of 0/0.
+    #[test]
+    fn a_pilot_without_variance_predicts_no_gain() {
+        let mut exact = sums(&[1.0; 4]);
+        exact.rays = 4;
+        let plan = Plan::new(&[exact; 9], 3, Spread::Luminance, 4, 1000);
+        assert_eq!(plan.predicted_gain(3, 64), 0.0);
+    }
+
     /// A noise target spreads by its own measure, the relative error; an
     /// adaptive render or the automatic choice without one by the variance
     /// over the luminance; neither keeps the count even.
