@@ -447,19 +447,7 @@ fn trace_segment<G: Gather>(
         }
     }
     let Some(hit) = hit else {
-        if t_end.is_finite() {
-            // A bounded first segment: what lies beyond its end is not asked for.
-            return Step::Stop;
-        }
-        let escaped = scene.escaped(
-            path.ray.direction,
-            path.prev_pdf,
-            path.prev_delta,
-            path.prev_normal,
-        );
-        path.radiance += path.throughput * escaped;
-        path.book_sky();
-        return Step::Stop;
+        return escape(scene, path, t_end);
     };
     if let Some(book) = &mut path.sky {
         path.radiance += book.arrived(path.throughput);
@@ -475,6 +463,24 @@ fn trace_segment<G: Gather>(
         return path.end_at_vertex();
     }
     surface_vertex(scene, path, &hit, sampler, gather)
+}
+
+/// A segment that meets no surface before `t_end`: the light of the
+/// infinite lights along an escaping ray, or nothing past a bounded first
+/// segment's end (what lies beyond it is not asked for).
+fn escape(scene: &Scene, path: &mut PathState, t_end: f32) -> Step {
+    if t_end.is_finite() {
+        return Step::Stop;
+    }
+    let escaped = scene.escaped(
+        path.ray.direction,
+        path.prev_pdf,
+        path.prev_delta,
+        path.prev_normal,
+    );
+    path.radiance += path.throughput * escaped;
+    path.book_sky();
+    Step::Stop
 }
 
 /// Books ahead, by its expectation, the sky light's change at the diffuse
