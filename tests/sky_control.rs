@@ -64,6 +64,23 @@ fn returned_share(a: f32) -> f32 {
     (1.0 - (1.0 - a).sqrt()) / (1.0 + (1.0 - a).sqrt())
 }
 
+/// `a` and `b` have the same expectation along the ray from `eye` toward
+/// each of `targets`, `n` paths each with seeds `seeds`; `what` names the case.
+fn assert_same_toward(
+    (a, b): (&brume::integrator::Scene, &brume::integrator::Scene),
+    eye: Vec3,
+    targets: &[Vec3],
+    (n, seeds): (usize, (u64, u64)),
+    what: &str,
+) {
+    for &target in targets {
+        let ray = Ray::new(eye, (target - eye).normalize());
+        let x = estimate_ray(a, ray, n, seeds.0);
+        let y = estimate_ray(b, ray, n, seeds.1);
+        assert_same(&x, &y, &format!("{what}, toward {target:?}"));
+    }
+}
+
 /// The same expectation with the control variate on and off, along rays
 /// through the ball, the glass, the mirror and the ground, at the depth
 /// limits 0 (emission only), 1, 2 and 64 with roulette from the first
@@ -98,13 +115,8 @@ fn the_control_variate_leaves_the_expectation_at_every_depth() {
         let booked = on.sky_control.expect("on").r;
         assert!(off.sky_control.is_none());
         assert_eq!(booked < 0.3, !sun, "booked {booked}");
-        for target in targets {
-            let ray = Ray::new(eye, (target - eye).normalize());
-            let what = format!("max_depth {max_depth}, sun {sun}, toward {target:?}");
-            let a = estimate_ray(&off, ray, 40_000, 1);
-            let b = estimate_ray(&on, ray, 40_000, 2);
-            assert_same(&a, &b, &what);
-        }
+        let what = format!("max_depth {max_depth}, sun {sun}");
+        assert_same_toward((&off, &on), eye, &targets, (40_000, (1, 2)), &what);
     }
 }
 
@@ -219,14 +231,9 @@ fn booking_the_surface_ahead_keeps_the_expectation() {
             let mut on_arrival = scene_from_str(&fog_over_ground(&lines, medium, sun));
             assert!(ahead.settings.sky_ahead);
             on_arrival.settings.sky_ahead = false;
-            for target in targets {
-                let ray = Ray::new(eye, (target - eye).normalize());
-                let what =
-                    format!("{medium:.20}, max_depth {max_depth}, sun {sun}, toward {target:?}");
-                let a = estimate_ray(&on_arrival, ray, 30_000, 5);
-                let b = estimate_ray(&ahead, ray, 30_000, 6);
-                assert_same(&a, &b, &what);
-            }
+            let what = format!("{medium:.20}, max_depth {max_depth}, sun {sun}");
+            let scenes = (&on_arrival, &ahead);
+            assert_same_toward(scenes, eye, &targets, (30_000, (5, 6)), &what);
         }
     }
 }
@@ -464,14 +471,8 @@ fn the_control_keeps_the_expectation_under_a_gradient_sky_and_a_map() {
                 (floor - booked).min_channel() >= 0.0,
                 "booked {booked:?} above the floor {floor:?}"
             );
-            for target in targets {
-                let ray = Ray::new(eye, (target - eye).normalize());
-                let what =
-                    format!("{environment}: max_depth {max_depth}, sun {sun}, toward {target:?}");
-                let a = estimate_ray(&off, ray, 40_000, 1);
-                let b = estimate_ray(&on, ray, 40_000, 2);
-                assert_same(&a, &b, &what);
-            }
+            let what = format!("{environment}: max_depth {max_depth}, sun {sun}");
+            assert_same_toward((&off, &on), eye, &targets, (40_000, (1, 2)), &what);
         }
     }
 }

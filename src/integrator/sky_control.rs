@@ -82,12 +82,10 @@ impl SkyBook {
     /// radiance that books the segment's own changes (tracking weights), not the surface's.
     #[inline]
     pub(crate) fn arrived(&mut self, throughput: Rgb) -> Rgb {
-        if !self.ahead {
-            return Rgb::BLACK;
+        match self.ahead {
+            true => self.change(throughput),
+            false => Rgb::BLACK,
         }
-        let delta = self.sky * (throughput - self.booked);
-        self.booked = throughput;
-        delta
     }
 
     /// The segment booked ahead ended before its surface (a collision, an absorption).
@@ -105,6 +103,12 @@ impl SkyBook {
             self.booked = throughput;
             return Rgb::BLACK;
         }
+        self.change(throughput)
+    }
+
+    /// The radiance of the throughput's change since the last booking, now booked.
+    #[inline]
+    fn change(&mut self, throughput: Rgb) -> Rgb {
         let delta = self.sky * (throughput - self.booked);
         self.booked = throughput;
         delta

@@ -187,6 +187,7 @@ pub fn srgb_to_linear(v: f32) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
 
     /// The grey shortcut of `exp_neg` takes only equal channels: each
     /// channel is its own exponential, grey or not (two equal, one apart too).
@@ -204,8 +205,6 @@ mod tests {
             }
         }
     }
-
-    use super::*;
 
     #[test]
     fn arithmetic_and_helpers() {
