@@ -22,6 +22,7 @@ look_at = [0.0, 0.5, 0.0]
 resolution = [16, 12]
 [integrator]
 spp = 64
+adaptive = false   # every pixel at 64 spp: the header's spp below
 [[light]]
 type = "point"
 position = [0.0, 3.0, 2.0]

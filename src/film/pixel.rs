@@ -41,6 +41,18 @@ impl PixelSums {
         }
     }
 
+    /// The sums of `self`'s samples and `other`'s together.
+    pub fn pooled(&self, other: &PixelSums) -> PixelSums {
+        PixelSums {
+            sum: std::array::from_fn(|c| self.sum[c] + other.sum[c]),
+            squares: std::array::from_fn(|c| self.squares[c] + other.squares[c]),
+            count: self.count + other.count,
+            nonfinite: self.nonfinite + other.nonfinite,
+            lookups: self.lookups + other.lookups,
+            rays: self.rays + other.rays,
+        }
+    }
+
     /// Mean of the finite samples (black if there were none).
     pub fn mean(&self) -> Rgb {
         if self.count == 0 {

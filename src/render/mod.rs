@@ -10,6 +10,7 @@
 
 pub mod adaptive;
 pub mod checkpoint;
+pub mod class_plans;
 pub mod cli_values;
 pub mod display;
 

@@ -1,11 +1,12 @@
-//! The passes of a piloted render (module `adaptive`): the pilot, kept out
-//! of the image, then image passes of rising level, each pixel's samples
-//! fixed by the plan before the pass starts.
+//! The passes of a piloted render (module `adaptive`): the pilot, the first
+//! samples of every pixel's stream and part of the image, then image passes
+//! of rising level, each pixel's samples fixed by its colour's plan (module
+//! `class_plans`) before the pass starts.
 
 use super::adaptive::{
-    pilot_seed, pilot_spp, AdaptiveSettings, AutoChoice, NoiseReport, Plan, Spread, AUTO_GAIN,
-    MAX_FACTOR,
+    pilot_spp, spread_share, AdaptiveSettings, AutoChoice, NoiseReport, Plan, Spread, MAX_FACTOR,
 };
+use super::class_plans::{predicted_gain, ClassPlans};
 use super::group::Group;
 use super::run::{Piloted, Run};
 use super::{Estimator, PassObserver};
@@ -13,9 +14,9 @@ use crate::film::PixelSums;
 use std::sync::atomic::Ordering;
 
 impl<E: Estimator> Run<'_, E> {
-    /// Renders the pilot, then image passes until the plan's goal, the time
-    /// budget or a stop request; under the automatic choice, the uniform
-    /// passes instead when the pilot predicts too little gain.
+    /// Renders the pilot, then image passes until the plans' goals, the time
+    /// budget or a stop request; under the automatic choice, uniform passes
+    /// from the pilot on when neither colour's pilot predicts enough gain.
     pub(super) fn piloted_passes(
         &mut self,
         mut on_pass: Option<PassObserver>,
@@ -26,21 +27,25 @@ impl<E: Estimator> Run<'_, E> {
             "adaptive sampling and noise targets take the path tracer's pixel samples only"
         );
         let (cap, pilot) = (self.cap(settings), pilot_spp(self.options.spp));
-        let Some(plan) = self.plan_from_pilot(pilot, settings, cap) else {
+        let auto = settings.auto && !settings.piloted();
+        let Some((gains, mut plans)) = self.plans_from_pilot(pilot, settings, cap, auto) else {
             self.partial = true;
             self.bar.finish_and_clear();
             return;
         };
-        if settings.auto && !settings.piloted() {
-            if !self.choose_spread(&plan, pilot) {
+        if let Some(gains) = gains {
+            if !self.choose_spread(&mut plans, gains, pilot) {
+                // The pilot's samples are the uniform image's first ones.
+                self.spp_done = pilot;
                 return self.uniform_passes(on_pass);
             }
             settings.adaptive = true;
         }
-        let goal = self.goal(&plan, settings, pilot);
+        plans.set_goals(|plan| self.goal(plan, settings));
+        let goal = plans.goal();
         let n = self.job.part.crop.area();
-        self.begin(pilot, n, settings);
-        let mut done = vec![0u32; n];
+        self.begin(&plans, pilot, settings);
+        let mut done = vec![pilot; n];
         let mut level = pilot as f64;
         loop {
             if self.cancel.load(Ordering::Relaxed) {
@@ -48,7 +53,7 @@ impl<E: Estimator> Run<'_, E> {
                 break;
             }
             let level_k = level.min(goal);
-            let counts = plan.counts(level_k);
+            let counts = plans.counts(level_k);
             let pass_start = std::time::Instant::now();
             if !self.image_pass(&done, &counts) {
                 self.partial = true;
@@ -60,7 +65,7 @@ impl<E: Estimator> Run<'_, E> {
                 .map(|(&c, &d)| (c - d) as u64)
                 .sum();
             done = counts;
-            self.record(&plan, &done);
+            self.record(&plans, &done);
             if let Some(observe) = on_pass.as_mut() {
                 let mut image = self.film.beauty_image();
                 image.partial = true;
@@ -69,7 +74,7 @@ impl<E: Estimator> Run<'_, E> {
             if level_k >= goal || done.iter().all(|&c| c >= cap) {
                 break;
             }
-            match self.next_level(&plan, level_k, pass_samples, pass_start.elapsed()) {
+            match self.next_level(&plans, level_k, pass_samples, pass_start.elapsed()) {
                 Some(next) => level = next,
                 None => break,
             }
@@ -77,28 +82,40 @@ impl<E: Estimator> Run<'_, E> {
         self.bar.finish_and_clear();
     }
 
-    /// The plan from a pilot of `pilot` spp (None when a stop request cut
-    /// the pilot short); spread when adaptive or under the automatic choice.
-    fn plan_from_pilot(
+    /// The two colours' plans from a pilot of `pilot` spp, taken into the
+    /// image, with each colour's predicted gain from spreading when `auto`
+    /// (None when a stop request cut the pilot short or came while
+    /// planning); spread when adaptive or under the automatic choice. The
+    /// gains are judged first, so that at most the pilot, one judging plan
+    /// and then the two plans are held at once.
+    fn plans_from_pilot(
         &mut self,
         pilot: u32,
         settings: AdaptiveSettings,
         cap: u32,
-    ) -> Option<Plan> {
-        let pilot_sums = self.pilot(pilot)?;
+        auto: bool,
+    ) -> Option<(Option<[f64; 2]>, ClassPlans)> {
+        let sums = self.pilot(pilot)?;
         let w = self.job.part.crop.width() as usize;
-        Some(Plan::new(&pilot_sums, w, Spread::of(&settings), pilot, cap))
+        let spp = self.options.spp;
+        let gains = auto.then(|| [0, 1].map(|c| predicted_gain(&sums, w, c, spp, (pilot, cap))));
+        let plans = ClassPlans::new(&sums, w, Spread::of(&settings), pilot, cap);
+        (!self.cancel.load(Ordering::Relaxed)).then_some((gains, plans))
     }
 
-    /// The automatic choice: spread the samples by `plan` when its predicted
-    /// gain reaches [`AUTO_GAIN`] (recorded either way).
-    fn choose_spread(&mut self, plan: &Plan, pilot: u32) -> bool {
-        let w = self.job.part.crop.width() as usize;
-        let gain = plan.predicted_gain(w, self.options.spp);
-        let spread = gain >= AUTO_GAIN;
+    /// The automatic choice, colour by colour: a colour's samples are spread
+    /// by its plan in the share [`spread_share`] of its predicted gain (none
+    /// below `AUTO_GAIN`, all from `FULL_GAIN`), else kept uniform
+    /// (recorded: the mean gain, spread if either colour is). False when
+    /// neither colour spreads.
+    fn choose_spread(&mut self, plans: &mut ClassPlans, gains: [f64; 2], pilot: u32) -> bool {
+        for (c, &gain) in gains.iter().enumerate() {
+            plans.spread_by(c, spread_share(gain));
+        }
+        let spread = gains.iter().any(|&g| spread_share(g) > 0.0);
         self.auto = Some(AutoChoice {
             pilot_spp: pilot,
-            gain,
+            gain: 0.5 * (gains[0] + gains[1]),
             spread,
         });
         spread
@@ -109,7 +126,7 @@ impl<E: Estimator> Run<'_, E> {
     /// `pass_samples`); None when the time is spent.
     fn next_level(
         &self,
-        plan: &Plan,
+        plan: &ClassPlans,
         level: f64,
         pass_samples: u64,
         took: std::time::Duration,
@@ -125,21 +142,21 @@ impl<E: Estimator> Run<'_, E> {
         (plan.total(next) > now).then_some(next)
     }
 
-    /// Records that the pilot of `pilot` spp over `n` pixels is done.
-    fn begin(&mut self, pilot: u32, n: usize, settings: AdaptiveSettings) {
+    /// Records that the pilot of `pilot` spp is done: the image holds its samples.
+    fn begin(&mut self, plans: &ClassPlans, pilot: u32, settings: AdaptiveSettings) {
         self.piloted = Some(Piloted {
-            pilot_samples: pilot as u64 * n as u64,
-            max_count: 0,
+            max_count: pilot,
             report: NoiseReport {
                 pilot_spp: pilot,
                 adaptive: settings.adaptive,
                 target: settings.noise,
                 error: f64::INFINITY,
-                min_spp: 0,
-                mean_spp: 0.0,
-                max_spp: 0,
+                min_spp: pilot,
+                mean_spp: pilot as f64,
+                max_spp: pilot,
             },
         });
+        self.record(plans, &vec![pilot; self.job.part.crop.area()]);
     }
 
     /// The most image samples of a pixel: the spp with a noise target or a
@@ -155,33 +172,39 @@ impl<E: Estimator> Run<'_, E> {
         }
     }
 
-    /// The level the render aims at: where the noise target is met, the top
-    /// for a time budget; under the automatic choice where the image costs
-    /// what `spp` − pilot uniform samples per pixel would (the pilot's count
-    /// of rays and lookups: a spread the user did not ask for takes about
-    /// the uniform render's time, not more); else where the image and pilot
-    /// samples together make `spp` per pixel on average.
-    fn goal(&self, plan: &Plan, settings: AdaptiveSettings, pilot: u32) -> f64 {
+    /// The level a colour's `plan` aims at: where the noise target is met,
+    /// the top for a time budget; under the automatic choice where the image
+    /// costs what `spp` uniform samples per pixel would (the pilot's count of
+    /// rays and lookups: a spread the user did not ask for takes about the
+    /// uniform render's time, not more); else where the samples, the
+    /// pilot's among them, make `spp` per pixel on average.
+    fn goal(&self, plan: &Plan, settings: AdaptiveSettings) -> f64 {
         if let Some(target) = settings.noise {
             return plan.level_for_noise(target as f64);
         }
         if self.options.time_budget.is_some() {
             return plan.top_level();
         }
-        let image_spp = self.options.spp.saturating_sub(pilot);
+        let spp = self.options.spp;
         if settings.auto {
-            return plan.level_for_uniform_work(image_spp);
+            return plan.level_for_uniform_work(spp);
         }
-        let pixels = self.job.part.crop.area() as u64;
-        plan.level_for_budget(image_spp as u64 * pixels)
+        plan.level_for_budget(spp as u64 * plan.member_count() as u64)
     }
 
-    /// The pilot's sums: `spp` samples of every pixel from the pilot seed
-    /// (None when a stop request cut it short).
+    /// The pilot: the first `spp` samples of every pixel's stream, added to
+    /// the film; their sums (None when a stop request cut it short).
     fn pilot(&mut self, spp: u32) -> Option<Vec<PixelSums>> {
-        let schedule = vec![(0, spp); self.job.part.crop.area()];
-        let finished = self.run_pass(&schedule, pilot_seed(self.job.scene.settings.seed), false);
-        finished.then(|| std::mem::take(&mut self.bufs.sums))
+        let start = self.job.part.samples.start;
+        let schedule = vec![(start, spp); self.job.part.crop.area()];
+        let with_aovs = !self.aovs.is_empty();
+        if !self.run_pass(&schedule, self.job.scene.settings.seed, with_aovs) {
+            return None;
+        }
+        self.add_sums(0);
+        let mut sums = std::mem::take(&mut self.bufs.sums);
+        sums.truncate(self.job.part.crop.area());
+        Some(sums)
     }
 
     /// Takes samples `done[i]..counts[i]` of every pixel into the film; false
@@ -224,7 +247,7 @@ impl<E: Estimator> Run<'_, E> {
     }
 
     /// Updates the report and the progress message after a pass.
-    fn record(&mut self, plan: &Plan, counts: &[u32]) {
+    fn record(&mut self, plan: &ClassPlans, counts: &[u32]) {
         let error = plan.error(counts);
         let piloted = self.piloted.as_mut().expect("a piloted render");
         let r = &mut piloted.report;

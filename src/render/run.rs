@@ -23,7 +23,7 @@ pub(super) struct Run<'a, E> {
     pub(super) bufs: Buffers,
     pub(super) bar: ProgressBar,
     pub(super) start: Instant,
-    spp_done: u32,
+    pub(super) spp_done: u32,
     pub(super) partial: bool,
     /// Why the estimator refused a pass, when it did (the render ends there).
     refused: Option<Refused>,
@@ -36,8 +36,6 @@ pub(super) struct Run<'a, E> {
 
 /// What a piloted render has taken so far.
 pub(super) struct Piloted {
-    /// Samples of the pilot (not in the image).
-    pub pilot_samples: u64,
     /// Image samples of the pixel that holds the most.
     pub max_count: u32,
     /// The report so far.
@@ -264,16 +262,13 @@ impl<'a, E: Estimator> Run<'a, E> {
             _ => self.film.beauty_image(),
         };
         image.partial = self.partial;
+        // The pilot's samples are the image's first (module `class_plans`).
         let samples = match &self.piloted {
-            Some(p) => {
-                p.pilot_samples
-                    + self.film.counts.iter().map(|&n| n as u64).sum::<u64>()
+            Some(_) => {
+                self.film.counts.iter().map(|&n| n as u64).sum::<u64>()
                     + self.film.nonfinite.iter().map(|&n| n as u64).sum::<u64>()
             }
-            None => {
-                let pilot = self.auto.map_or(0, |a| a.pilot_spp);
-                (self.spp_done + pilot) as u64 * part.crop.area() as u64
-            }
+            None => self.spp_done as u64 * part.crop.area() as u64,
         };
         RenderOutput {
             image,

@@ -313,15 +313,16 @@ fn report(out: &brume::render::RenderOutput, exr: &Path, png: &Path) {
 fn report_auto(out: &brume::render::RenderOutput) {
     let Some(a) = &out.auto else { return };
     let gain = brume::render::adaptive::AUTO_GAIN;
+    let full = brume::render::adaptive::FULL_GAIN;
     match a.spread {
         true => eprintln!(
             "adaptive (automatic): the pilot predicts {:.2}x the efficiency (1 / (error² × \
-             cost), each pixel's squared error over its luminance) from spreading the samples (at least \
-             {gain}x spreads them; --adaptive off keeps them even)",
+             cost), each pixel's squared error over its luminance) from spreading the samples (from \
+             {gain}x it spreads them, in full from {full}x; --adaptive off keeps them even)",
             a.gain
         ),
         false => eprintln!(
-            "uniform (automatic): the pilot of {} spp (not in the image) predicts {:.2}x the \
+            "uniform (automatic): the pilot of {} spp (the image's first) predicts {:.2}x the \
              efficiency (1 / (error² × cost), each pixel's squared error over its luminance) from spreading \
              the samples, below {gain}x; --adaptive on spreads them anyway",
             a.pilot_spp, a.gain
@@ -337,7 +338,7 @@ fn report_noise(out: &brume::render::RenderOutput) {
         .map(|t| format!(" (target {t})"))
         .unwrap_or_default();
     eprintln!(
-        "{}: pilot {} spp (not in the image), image {}-{} spp per pixel (mean {:.1}), \
+        "{}: pilot {} spp (the image's first), image {}-{} spp per pixel (mean {:.1}), \
          estimated relative error {:.4}{target}",
         if r.adaptive { "adaptive" } else { "uniform" },
         r.pilot_spp,
