@@ -242,6 +242,9 @@ mod tests {
                 plans.counts(plans.goal())
             };
             let (before, after) = (counts(&base), counts(&changed));
+            // Nor does the colour's predicted gain, the automatic choice's ground.
+            let gain = |p: &[PixelSums]| predicted_gain(p, w, c, 64, (n, 1 << 20));
+            assert_eq!(gain(&base), gain(&changed), "colour {c}'s predicted gain");
             let mut moved_other = false;
             for i in 0..w * h {
                 if colour(i, w) == c {
@@ -281,6 +284,39 @@ mod tests {
             let gain = predicted_gain(&patch, w, c, 64, (n, 1 << 20));
             assert!(gain > 2.0, "noisy patch, colour {c}: {gain}");
         }
+    }
+
+    /// Each colour stops at its own goal, the passes at the higher one; on
+    /// the way a colour's level is the same fraction of its goal; a colour
+    /// spread by a share of 0 takes the same count in every pixel.
+    #[test]
+    fn each_colour_reaches_its_own_goal() {
+        // 3×3: colour 0 holds 5 pixels, colour 1 holds 4.
+        let (w, n) = (3, 4);
+        let p = pilot(w, 3, n, 6);
+        let mut plans = ClassPlans::new(&p, w, Spread::Luminance, n, 1 << 20);
+        plans.set_goals(|plan| 10.0 * plan.member_count() as f64);
+        assert_eq!(plans.goal(), 50.0);
+        let half = plans.counts(25.0);
+        let end = plans.counts(plans.goal());
+        for i in 0..9 {
+            let c = colour(i, w);
+            let goal = [50.0, 40.0][c];
+            assert_eq!(end[i], plans.plan(c).count(i, goal), "pixel {i}");
+            assert_eq!(half[i], plans.plan(c).count(i, 0.5 * goal), "pixel {i}");
+        }
+        plans.spread_by(1, 0.0);
+        let counts = plans.counts(plans.goal());
+        let ones: Vec<u32> = (0..9)
+            .filter(|&i| colour(i, w) == 1)
+            .map(|i| counts[i])
+            .collect();
+        assert!(ones.iter().all(|&k| k == ones[0]), "{ones:?}");
+        let zeros: Vec<u32> = (0..9)
+            .filter(|&i| colour(i, w) == 0)
+            .map(|i| counts[i])
+            .collect();
+        assert!(zeros.iter().any(|&k| k != zeros[0]), "{zeros:?}");
     }
 
     /// The pooled frame: a pixel of the colour is the sum of its edge

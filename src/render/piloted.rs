@@ -19,7 +19,7 @@ impl<E: Estimator> Run<'_, E> {
     /// from the pilot on when neither colour's pilot predicts enough gain.
     pub(super) fn piloted_passes(
         &mut self,
-        mut on_pass: Option<PassObserver>,
+        on_pass: Option<PassObserver>,
         mut settings: AdaptiveSettings,
     ) {
         assert!(
@@ -42,10 +42,22 @@ impl<E: Estimator> Run<'_, E> {
             settings.adaptive = true;
         }
         plans.set_goals(|plan| self.goal(plan, settings));
-        let goal = plans.goal();
-        let n = self.job.part.crop.area();
         self.begin(&plans, pilot, settings);
-        let mut done = vec![pilot; n];
+        self.image_passes(&plans, (pilot, cap), on_pass);
+        self.bar.finish_and_clear();
+    }
+
+    /// Image passes of rising level from the pilot's `pilot` samples per
+    /// pixel to the plans' goal, the time budget, a stop request or every
+    /// pixel at `cap`.
+    fn image_passes(
+        &mut self,
+        plans: &ClassPlans,
+        (pilot, cap): (u32, u32),
+        mut on_pass: Option<PassObserver>,
+    ) {
+        let goal = plans.goal();
+        let mut done = vec![pilot; self.job.part.crop.area()];
         let mut level = pilot as f64;
         loop {
             if self.cancel.load(Ordering::Relaxed) {
@@ -65,7 +77,7 @@ impl<E: Estimator> Run<'_, E> {
                 .map(|(&c, &d)| (c - d) as u64)
                 .sum();
             done = counts;
-            self.record(&plans, &done);
+            self.record(plans, &done);
             if let Some(observe) = on_pass.as_mut() {
                 let mut image = self.film.beauty_image();
                 image.partial = true;
@@ -74,18 +86,18 @@ impl<E: Estimator> Run<'_, E> {
             if level_k >= goal || done.iter().all(|&c| c >= cap) {
                 break;
             }
-            match self.next_level(&plans, level_k, pass_samples, pass_start.elapsed()) {
+            match self.next_level(plans, level_k, pass_samples, pass_start.elapsed()) {
                 Some(next) => level = next,
                 None => break,
             }
         }
-        self.bar.finish_and_clear();
     }
 
     /// The two colours' plans from a pilot of `pilot` spp, taken into the
     /// image, with each colour's predicted gain from spreading when `auto`
-    /// (None when a stop request cut the pilot short or came while
-    /// planning); spread when adaptive or under the automatic choice. The
+    /// (None when a stop request cut the pilot short, or came while
+    /// planning: the image then holds the pilot's samples); spread when
+    /// adaptive or under the automatic choice. The
     /// gains are judged first, so that at most the pilot, one judging plan
     /// and then the two plans are held at once.
     fn plans_from_pilot(
@@ -100,7 +112,12 @@ impl<E: Estimator> Run<'_, E> {
         let spp = self.options.spp;
         let gains = auto.then(|| [0, 1].map(|c| predicted_gain(&sums, w, c, spp, (pilot, cap))));
         let plans = ClassPlans::new(&sums, w, Spread::of(&settings), pilot, cap);
-        (!self.cancel.load(Ordering::Relaxed)).then_some((gains, plans))
+        if self.cancel.load(Ordering::Relaxed) {
+            // Stopped while planning: the image holds the pilot's samples.
+            self.spp_done = pilot;
+            return None;
+        }
+        Some((gains, plans))
     }
 
     /// The automatic choice, colour by colour: a colour's samples are spread
