@@ -95,11 +95,12 @@ impl<E: Estimator> Run<'_, E> {
 
     /// The two colours' plans from a pilot of `pilot` spp, taken into the
     /// image, with each colour's predicted gain from spreading when `auto`
-    /// (None when a stop request cut the pilot short, or came while
-    /// planning: the image then holds the pilot's samples); spread when
-    /// adaptive or under the automatic choice. The
-    /// gains are judged first, so that at most the pilot, one judging plan
-    /// and then the two plans are held at once.
+    /// (None when a stop request cut the pilot short or came while
+    /// planning: a stop is looked at between the plans, so that a large
+    /// frame's planning answers it soon; nothing is then written, as when
+    /// the pilot itself was cut). Spread when adaptive or under the
+    /// automatic choice. The gains are judged first, so that at most the
+    /// pilot, one judging plan and then the two plans are held at once.
     fn plans_from_pilot(
         &mut self,
         pilot: u32,
@@ -110,14 +111,19 @@ impl<E: Estimator> Run<'_, E> {
         let sums = self.pilot(pilot)?;
         let w = self.job.part.crop.width() as usize;
         let spp = self.options.spp;
-        let gains = auto.then(|| [0, 1].map(|c| predicted_gain(&sums, w, c, spp, (pilot, cap))));
-        let plans = ClassPlans::new(&sums, w, Spread::of(&settings), pilot, cap);
-        if self.cancel.load(Ordering::Relaxed) {
-            // Stopped while planning: the image holds the pilot's samples.
-            self.spp_done = pilot;
+        let stopped = || self.cancel.load(Ordering::Relaxed);
+        let mut gains = [0.0; 2];
+        for (c, gain) in gains.iter_mut().enumerate().filter(|_| auto) {
+            if stopped() {
+                return None;
+            }
+            *gain = predicted_gain(&sums, w, c, spp, (pilot, cap));
+        }
+        if stopped() {
             return None;
         }
-        Some((gains, plans))
+        let plans = ClassPlans::new(&sums, w, Spread::of(&settings), pilot, cap);
+        (!stopped()).then_some((auto.then_some(gains), plans))
     }
 
     /// The automatic choice, colour by colour: a colour's samples are spread
