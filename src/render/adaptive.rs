@@ -293,22 +293,6 @@ impl Plan {
         self.search(|level| self.work(level) <= budget).0
     }
 
-    /// The highest level in [lo, hi] whose total is at most `budget` samples (lo if none).
-    pub fn level_within(&self, lo: f64, hi: f64, budget: u64) -> f64 {
-        if self.total(hi) <= budget {
-            return hi;
-        }
-        let (mut lo, mut hi) = (lo, hi);
-        for _ in 0..64 {
-            let mid = 0.5 * (lo + hi);
-            match self.total(mid) <= budget {
-                true => lo = mid,
-                false => hi = mid,
-            }
-        }
-        lo
-    }
-
     /// The lowest level whose estimated error is at most `target` (the top
     /// level when even the cap does not reach it).
     pub fn level_for_noise(&self, target: f64) -> f64 {
