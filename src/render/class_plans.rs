@@ -217,6 +217,8 @@ mod tests {
                     p.add(Rgb::splat(level * 4.0 * next()));
                 }
                 p.rays = n as u64 * (1 + (i % 3) as u64);
+                p.lookups = n as u64 * (i % 5) as u64;
+                p.nonfinite = (i % 2) as u32;
                 p
             })
             .collect()
@@ -330,6 +332,8 @@ mod tests {
         assert_eq!(f[0].count, p[1].count + p[3].count);
         assert_eq!(f[0].sum[0], p[1].sum[0] + p[3].sum[0]);
         assert_eq!(f[0].rays, p[1].rays + p[3].rays);
+        assert_eq!(f[0].lookups, p[1].lookups + p[3].lookups);
+        assert_eq!(f[0].nonfinite, p[1].nonfinite + p[3].nonfinite);
         // Pixel 4 (colour 0, bottom middle): left, right and upper.
         assert_eq!(f[4].sum[1], p[3].sum[1] + p[5].sum[1] + p[1].sum[1]);
         // Pixel 1 (colour 1) keeps its own.
